@@ -1,0 +1,124 @@
+#include "engine/core/stage_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace sarmap {
+
+StageProfile::ScopedTimer::ScopedTimer(StageProfile& profile, std::string_view stage)
+    : profile_(profile), stage_(stage), start_(std::chrono::steady_clock::now()) {}
+
+StageProfile::ScopedTimer::~ScopedTimer() {
+  const auto elapsed = std::chrono::steady_clock::now() - start_;
+  profile_.add_time(stage_, std::chrono::duration<double>(elapsed).count());
+}
+
+void StageProfile::begin_scan() { per_scan_.emplace_back(order_.size(), 0.0); }
+
+std::size_t StageProfile::stage_index(std::string_view stage) {
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    if (order_[i] == stage) return i;
+  }
+  order_.emplace_back(stage);
+  counters_.emplace_back();
+  for (auto& row : per_scan_) row.push_back(0.0);
+  return order_.size() - 1;
+}
+
+void StageProfile::add_time(std::string_view stage, double seconds) {
+  const std::size_t i = stage_index(stage);
+  if (per_scan_.empty()) begin_scan();
+  per_scan_.back()[i] += seconds;
+}
+
+void StageProfile::add_count(std::string_view stage, std::string_view counter, double value) {
+  counters_[stage_index(stage)][std::string(counter)] += value;
+}
+
+namespace {
+// Nearest-rank percentile of sorted values.
+double percentile(const std::vector<double>& sorted, double p) {
+  if (sorted.empty()) return 0.0;
+  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(sorted.size())));
+  return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
+}
+}  // namespace
+
+StageProfile::StageStats StageProfile::stats(std::string_view stage) const {
+  StageStats s;
+  const auto it = std::find(order_.begin(), order_.end(), stage);
+  if (it == order_.end() || per_scan_.empty()) return s;
+  const auto i = static_cast<std::size_t>(it - order_.begin());
+  std::vector<double> values;
+  values.reserve(per_scan_.size());
+  for (const auto& row : per_scan_) values.push_back(row[i]);
+  std::sort(values.begin(), values.end());
+  for (double v : values) s.total_s += v;
+  s.scans = values.size();
+  s.mean_s = s.total_s / static_cast<double>(values.size());
+  s.p50_s = percentile(values, 0.50);
+  s.p95_s = percentile(values, 0.95);
+  s.max_s = values.back();
+  return s;
+}
+
+double StageProfile::counter(std::string_view stage, std::string_view counter) const {
+  const auto it = std::find(order_.begin(), order_.end(), stage);
+  if (it == order_.end()) return 0.0;
+  const auto& counters = counters_[static_cast<std::size_t>(it - order_.begin())];
+  const auto c = counters.find(std::string(counter));
+  return c == counters.end() ? 0.0 : c->second;
+}
+
+std::string StageProfile::table() const {
+  std::ostringstream out;
+  char line[160];
+  std::snprintf(line, sizeof line, "%-16s %10s %10s %10s %10s %10s\n", "stage", "total s", "mean ms",
+                "p50 ms", "p95 ms", "max ms");
+  out << line;
+  for (const auto& name : order_) {
+    const StageStats s = stats(name);
+    std::snprintf(line, sizeof line, "%-16s %10.3f %10.3f %10.3f %10.3f %10.3f\n", name.c_str(),
+                  s.total_s, s.mean_s * 1e3, s.p50_s * 1e3, s.p95_s * 1e3, s.max_s * 1e3);
+    out << line;
+  }
+  std::snprintf(line, sizeof line, "%zu scans in %.3f s wall (%.2f scans/s)\n", scan_count(), wall_s_,
+                wall_s_ > 0 ? static_cast<double>(scan_count()) / wall_s_ : 0.0);
+  out << line;
+  return out.str();
+}
+
+std::string StageProfile::json() const {
+  nlohmann::ordered_json j;
+  j["version"] = kProfileFormatVersion;
+  j["units"] = "s";
+  j["scans"] = scan_count();
+  j["wall_s"] = wall_s_;
+  j["scans_per_second"] = wall_s_ > 0 ? static_cast<double>(scan_count()) / wall_s_ : 0.0;
+  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    const StageStats s = stats(order_[i]);
+    nlohmann::ordered_json st;
+    st["total_s"] = s.total_s;
+    st["mean_s"] = s.mean_s;
+    st["p50_s"] = s.p50_s;
+    st["p95_s"] = s.p95_s;
+    st["max_s"] = s.max_s;
+    for (const auto& [name, value] : counters_[i]) st[name] = value;
+    stages[order_[i]] = st;
+  }
+  j["stages"] = stages;
+  nlohmann::ordered_json per_scan = nlohmann::ordered_json::array();
+  for (const auto& row : per_scan_) {
+    nlohmann::ordered_json r;
+    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = row[i];
+    per_scan.push_back(r);
+  }
+  j["per_scan"] = per_scan;
+  return j.dump(2);
+}
+
+}  // namespace sarmap

@@ -1,0 +1,68 @@
+// Named stage timers (steady clock) kept per scan and in total, printable as a
+// table and as the profile.json that `sarmap run` writes:
+//   {"version": 1, "units": "s", "scans": N, "wall_s": ..., "scans_per_second": ...,
+//    "stages": {"<name>": {"total_s", "mean_s", "p50_s", "p95_s", "max_s", <counters>}},
+//    "per_scan": [{"<name>_s": ...}, ...]}
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sarmap {
+
+inline constexpr int kProfileFormatVersion = 1;
+
+class StageProfile {
+ public:
+  struct StageStats {
+    double total_s = 0, mean_s = 0, p50_s = 0, p95_s = 0, max_s = 0;
+    std::size_t scans = 0;  // scans in which the stage ran
+  };
+
+  // Times a stage until destroyed, then adds the time to the current scan.
+  class ScopedTimer {
+   public:
+    ScopedTimer(StageProfile& profile, std::string_view stage);
+    ~ScopedTimer();
+    ScopedTimer(const ScopedTimer&) = delete;
+    ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+   private:
+    StageProfile& profile_;
+    std::string stage_;
+    std::chrono::steady_clock::time_point start_;
+  };
+
+  // Starts a new per-scan row; times added before the first call open one.
+  void begin_scan();
+  ScopedTimer time(std::string_view stage) { return ScopedTimer(*this, stage); }
+  void add_time(std::string_view stage, double seconds);
+  // Adds to a named counter of a stage (points in, rays cast, ...), summed over scans.
+  void add_count(std::string_view stage, std::string_view counter, double value);
+  // Whole-run wall time, I/O included; scans_per_second derives from it.
+  void set_wall_seconds(double seconds) { wall_s_ = seconds; }
+
+  std::size_t scan_count() const { return per_scan_.size(); }
+  double wall_seconds() const { return wall_s_; }
+  // Stage names in the order they were first timed.
+  const std::vector<std::string>& stage_names() const { return order_; }
+  StageStats stats(std::string_view stage) const;
+  double counter(std::string_view stage, std::string_view counter) const;
+
+  std::string table() const;
+  std::string json() const;
+
+ private:
+  std::size_t stage_index(std::string_view stage);
+
+  std::vector<std::string> order_;
+  std::vector<std::vector<double>> per_scan_;  // [scan][stage] seconds
+  std::vector<std::map<std::string, double>> counters_;  // [stage]
+  double wall_s_ = 0;
+};
+
+}  // namespace sarmap

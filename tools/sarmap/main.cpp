@@ -1,0 +1,31 @@
+// Entry point of the `sarmap` CLI: registers the subcommands and turns a
+// sarmap::Error into a message on stderr and a non-zero exit code.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "engine/core/error.hpp"
+#include "engine/core/version.hpp"
+#include "tools/sarmap/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"sarmap: semantic, metric and topological maps of search-and-rescue arenas"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("sarmap ") + sarmap::kVersion);
+  sarmap::cli::GlobalOptions global;
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const sarmap::Error& e) {
+    std::fprintf(stderr, "sarmap: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sarmap: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}
