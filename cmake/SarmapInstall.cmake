@@ -1,6 +1,7 @@
 # Installs the library with an exported CMake package, so a front end can
 # find_package(sarmap) and link sarmap::sarmap.
-install(TARGETS sarmap EXPORT sarmapTargets
+get_property(SARMAP_MODULES GLOBAL PROPERTY SARMAP_MODULES)
+install(TARGETS sarmap ${SARMAP_MODULES} sarmap_xsimd EXPORT sarmapTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(DIRECTORY engine kernels DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sarmap
