@@ -1,0 +1,17 @@
+// PCD v0.7 point clouds: read ascii, binary and binary_compressed (LZF);
+// write ascii and binary. Fields x y z, rgb (U 4, packed 0x00RRGGBB), label,
+// and optionally gt_label, normal_x/y/z, intensity.
+#pragma once
+
+#include <filesystem>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/io/point_cloud_file.hpp"
+
+namespace sarmap {
+
+PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
+void write_pcd(const std::filesystem::path& path, const PointBuffer& points,
+               const PointCloudWriteOptions& options = {});
+
+}  // namespace sarmap

@@ -1,0 +1,36 @@
+// Reading and writing whole point clouds, with the format chosen by the file
+// extension (.ply or .pcd). Readers drop points with NaN/Inf coordinates and
+// count them; writers are atomic.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/core/point_buffer.hpp"
+
+namespace sarmap {
+
+enum class PointCloudFormat { Ply, Pcd };
+
+// What a reader found besides the points.
+struct PointCloudFileInfo {
+  PointCloudFormat format = PointCloudFormat::Ply;
+  std::string encoding;               // "ascii", "binary_little_endian", "binary", "binary_compressed"
+  std::vector<std::string> fields;    // property / field names as written in the file
+  std::size_t points_in_file = 0;     // as declared by the header
+  std::size_t dropped_non_finite = 0; // points dropped for NaN/Inf coordinates
+};
+
+struct PointCloudWriteOptions {
+  bool binary = true;  // false writes ASCII
+};
+
+// Throws sarmap::Error for an unknown extension or a malformed file.
+PointCloudFormat point_cloud_format_of(const std::filesystem::path& path);
+PointBuffer read_point_cloud(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
+void write_point_cloud(const std::filesystem::path& path, const PointBuffer& points,
+                       const PointCloudWriteOptions& options = {});
+
+}  // namespace sarmap
