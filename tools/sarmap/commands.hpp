@@ -1,14 +1,12 @@
-// Each subcommand of the sarmap CLI registers itself on the app; main() only
-// lists them. A command signals failure by throwing sarmap::Error.
+// Each subcommand of the sarmap CLI lives in its own file and registers itself
+// on the app through one function declared here; main() only calls them. A
+// command's callback signals failure by throwing sarmap::Error.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 namespace sarmap::cli {
 
-// Options every command shares.
-struct GlobalOptions {
-  bool quiet = false;
-};
+// (declarations: void add_<name>_command(CLI::App& app);)
 
 }  // namespace sarmap::cli

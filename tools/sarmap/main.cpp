@@ -14,7 +14,9 @@ int main(int argc, char** argv) {
   CLI::App app{"sarmap: semantic, metric and topological maps of search-and-rescue arenas"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("sarmap ") + sarmap::kVersion);
-  sarmap::cli::GlobalOptions global;
+
+  // One line per subcommand (tools/sarmap/<name>_command.cpp).
+  // (none registered yet)
 
   try {
     app.parse(argc, argv);
