@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <iterator>
 #include <string>
+#include <unistd.h>
 
 namespace sarmap {
 namespace {
@@ -15,7 +16,8 @@ std::string slurp(const std::filesystem::path& p) {
 }
 
 TEST(AtomicFileWriter, CommitReplacesTargetAndAbandonLeavesItIntact) {
-  const auto dir = std::filesystem::temp_directory_path() / "sarmap_atomic_test";
+  // Unique per process: ctest may run test processes in parallel.
+  const auto dir = std::filesystem::temp_directory_path() / ("sarmap_atomic_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const auto target = dir / "out.txt";
