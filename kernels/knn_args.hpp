@@ -1,0 +1,28 @@
+// What the dispatching code hands a per-instruction-set kNN kernel (internal
+// to kernels/).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace sarmap::kernels::detail {
+
+struct KnnArgs {
+  const float* points = nullptr;  // count x dim, row stride `stride`
+  std::size_t stride = 0;
+  std::size_t count = 0;
+  std::size_t dim = 0;
+  std::size_t k = 0;
+  const float* panels = nullptr;  // the same points packed by pack_points()
+  const float* norms = nullptr;   // their squared norms, +inf padded
+  std::uint32_t* idx = nullptr;   // count x k
+};
+
+// Neighbours of rows [begin, end).
+using KnnRowsFn = void (*)(const KnnArgs&, std::size_t begin, std::size_t end);
+
+void knn_rows_sse42(const KnnArgs&, std::size_t, std::size_t);
+void knn_rows_avx2(const KnnArgs&, std::size_t, std::size_t);
+void knn_rows_avx512(const KnnArgs&, std::size_t, std::size_t);
+
+}  // namespace sarmap::kernels::detail

@@ -1,0 +1,96 @@
+// The kNN kernel written once over the xsimd architecture, compiled per
+// instruction set by knn_{sse42,avx2,avx512}.cpp. Distances are ranked as
+// |b|^2 - 2 a.b (|a|^2 is the same for a whole row), computed a register tile
+// at a time like a GEMM, so the N x N matrix never exists; each row keeps its
+// k best in a small sorted list and a vector compare against the current k-th
+// distance skips almost every tile without touching the list.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "kernels/knn_args.hpp"
+#include "kernels/knn_limits.hpp"
+#include "kernels/microkernel.hpp"
+
+namespace sarmap::kernels {
+namespace {
+
+// Inserts (dist, id) into the ascending list d/ids of n <= k entries. Equal
+// distances keep their arrival order, which is index order: ties go to the
+// smaller index.
+inline void insert_sorted(float* d, std::uint32_t* ids, std::size_t& n, std::size_t k, float dist, std::uint32_t id) {
+  std::size_t pos = n < k ? n : k - 1;
+  while (pos > 0 && d[pos - 1] > dist) {
+    d[pos] = d[pos - 1];
+    ids[pos] = ids[pos - 1];
+    --pos;
+  }
+  d[pos] = dist;
+  ids[pos] = id;
+  if (n < k) ++n;
+}
+
+template <class Arch>
+void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  constexpr std::size_t NR = 2 * L;
+  constexpr int MR = tile_rows<Arch>();
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const std::size_t k = q.k, dim = q.dim;
+  const std::size_t panel_count = (q.count + NR - 1) / NR;
+
+  alignas(64) float a_scaled[MR * kKnnMaxDim];
+  float best_d[MR][kKnnMaxK];
+  std::uint32_t best_i[MR][kKnnMaxK];
+  std::size_t found[MR];
+  float threshold[MR];
+
+  for (std::size_t row = begin; row < end; row += MR) {
+    const int rows = static_cast<int>(min_size(MR, end - row));
+    with_rows<MR>(rows, [&](auto rc) {
+      constexpr int R = decltype(rc)::value;
+      for (int r = 0; r < R; ++r) {
+        const float* src = q.points + (row + r) * q.stride;
+        for (std::size_t c = 0; c < dim; ++c) a_scaled[r * dim + c] = -2.0f * src[c];
+        found[r] = 0;
+        threshold[r] = kInf;
+      }
+      for (std::size_t p = 0; p < panel_count; ++p) {
+        B acc[R][2];
+        const B n0 = B::load_aligned(q.norms + p * NR), n1 = B::load_aligned(q.norms + p * NR + L);
+        for (int r = 0; r < R; ++r) {
+          acc[r][0] = n0;
+          acc[r][1] = n1;
+        }
+        accumulate<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, dim, acc);
+        for (int r = 0; r < R; ++r) {
+          const B t(threshold[r]);
+          if (!xsimd::any((acc[r][0] < t) || (acc[r][1] < t))) continue;
+          alignas(64) float tmp[NR];
+          acc[r][0].store_aligned(tmp);
+          acc[r][1].store_aligned(tmp + L);
+          for (std::size_t l = 0; l < NR; ++l) {
+            const std::size_t col = p * NR + l;
+            if (tmp[l] < threshold[r] && col < q.count) {
+              insert_sorted(best_d[r], best_i[r], found[r], k, tmp[l], static_cast<std::uint32_t>(col));
+              if (found[r] == k) threshold[r] = best_d[r][k - 1];
+            }
+          }
+        }
+      }
+      for (int r = 0; r < R; ++r) {
+        std::uint32_t* out = q.idx + (row + r) * k;
+        // Fewer than k points (or non-finite input): repeat the nearest, which
+        // leaves every max over the neighbourhood unchanged.
+        const std::uint32_t fill = found[r] > 0 ? best_i[r][0] : static_cast<std::uint32_t>(row + r);
+        for (std::size_t j = 0; j < k; ++j) out[j] = j < found[r] ? best_i[r][j] : fill;
+      }
+    });
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::kernels

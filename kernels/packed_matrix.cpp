@@ -1,0 +1,53 @@
+// Packing of weights and points into GEMM panels (see packed_matrix.hpp).
+#include "kernels/packed_matrix.hpp"
+
+#include <limits>
+
+namespace sarmap::kernels {
+
+PackedMatrix::PackedMatrix(const float* weights, const float* bias, std::size_t rows, std::size_t cols,
+                           SimdLevel level)
+    : rows_(rows), cols_(cols), nr_(static_cast<std::size_t>(kernels::panel_width(level))), level_(level) {
+  const std::size_t panels = panel_count();
+  data_.resize(panels * nr_ * cols_);
+  bias_.resize(panels * nr_);
+  for (std::size_t p = 0; p < panels; ++p) {
+    float* dst = data_.data() + p * nr_ * cols_;
+    for (std::size_t c = 0; c < cols_; ++c) {
+      for (std::size_t r = 0; r < nr_; ++r) {
+        const std::size_t row = p * nr_ + r;
+        dst[c * nr_ + r] = row < rows_ ? weights[row * cols_ + c] : 0.0f;
+      }
+    }
+  }
+  for (std::size_t r = 0; r < panels * nr_; ++r) bias_[r] = (bias != nullptr && r < rows_) ? bias[r] : 0.0f;
+}
+
+void pack_points(const float* points, std::size_t stride, std::size_t count, std::size_t dim, SimdLevel level,
+                 AlignedBuffer<float>& panels, AlignedBuffer<float>& norms) {
+  const std::size_t nr = static_cast<std::size_t>(panel_width(level));
+  const std::size_t panel_count = (count + nr - 1) / nr;
+  panels.resize(panel_count * nr * dim);
+  norms.resize(panel_count * nr);
+  for (std::size_t p = 0; p < panel_count; ++p) {
+    float* dst = panels.data() + p * nr * dim;
+    for (std::size_t r = 0; r < nr; ++r) {
+      const std::size_t point = p * nr + r;
+      if (point < count) {
+        const float* src = points + point * stride;
+        float norm = 0.0f;
+        for (std::size_t c = 0; c < dim; ++c) {
+          dst[c * nr + r] = src[c];
+          norm += src[c] * src[c];
+        }
+        norms[point] = norm;
+      } else {
+        for (std::size_t c = 0; c < dim; ++c) dst[c * nr + r] = 0.0f;
+        // Padding columns can never be selected as neighbours.
+        norms[point] = std::numeric_limits<float>::infinity();
+      }
+    }
+  }
+}
+
+}  // namespace sarmap::kernels

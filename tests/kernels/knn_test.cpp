@@ -1,0 +1,161 @@
+// Tests kernels/knn.hpp against its scalar reference at every instruction set:
+// random 3-D and 64-D points, exact duplicates, fewer points than k, all-equal
+// points, and 1 vs 2 threads.
+#include "kernels/knn.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <set>
+#include <vector>
+
+#include "tests/kernels/kernel_test_support.hpp"
+
+namespace sarmap::kernels {
+namespace {
+
+double sq_dist(const std::vector<float>& p, std::size_t dim, std::size_t a, std::size_t b) {
+  double s = 0.0;
+  for (std::size_t c = 0; c < dim; ++c) {
+    const double d = static_cast<double>(p[a * dim + c]) - p[b * dim + c];
+    s += d * d;
+  }
+  return s;
+}
+
+// Float rounding may swap neighbours whose distances are within `tol` of the
+// k-th; anything else must agree with the reference.
+void expect_equivalent(const std::vector<float>& p, std::size_t n, std::size_t dim, std::size_t k,
+                       const std::vector<std::uint32_t>& got, const std::vector<std::uint32_t>& ref, double tol) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const double kth = sq_dist(p, dim, i, ref[i * k + k - 1]);
+    std::set<std::uint32_t> seen;
+    double previous = -1.0;
+    for (std::size_t j = 0; j < k; ++j) {
+      const std::uint32_t id = got[i * k + j];
+      ASSERT_LT(id, n);
+      ASSERT_TRUE(seen.insert(id).second) << "duplicate neighbour in row " << i;
+      const double d = sq_dist(p, dim, i, id);
+      ASSERT_LE(d, kth + tol) << "row " << i << " neighbour " << j;
+      ASSERT_GE(d, previous - tol) << "row " << i << " not sorted";
+      previous = d;
+    }
+  }
+}
+
+TEST(Knn, RandomPointsMatchReference) {
+  for (std::size_t dim : {3u, 64u, 5u}) {
+    const std::size_t n = dim == 64 ? 700 : 1100, k = 20;
+    const auto p = test::random_floats(n * dim, static_cast<unsigned>(dim));
+    std::vector<std::uint32_t> ref(n * k);
+    knn_reference(p.data(), dim, n, dim, k, ref.data());
+    for (SimdLevel level : test::supported_levels()) {
+      KnnWorkspace ws;
+      std::vector<std::uint32_t> got(n * k);
+      knn(p.data(), dim, n, dim, k, level, ws, got.data());
+      expect_equivalent(p, n, dim, k, got, ref, 1e-4 * static_cast<double>(dim));
+      for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(got[i * k], i) << "a point is its own nearest neighbour";
+    }
+  }
+}
+
+TEST(Knn, StridedInputUsesOnlyTheGivenChannels) {
+  // 6 channels per point, kNN over the last three (as DGCNN's first layer).
+  const std::size_t n = 300, k = 16;
+  auto p = test::random_floats(n * 6, 11);
+  std::vector<float> last3(n * 3);
+  for (std::size_t i = 0; i < n; ++i) std::copy_n(&p[i * 6 + 3], 3, &last3[i * 3]);
+  std::vector<std::uint32_t> ref(n * k);
+  knn_reference(last3.data(), 3, n, 3, k, ref.data());
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data() + 3, 6, n, 3, k, level, ws, got.data());
+    expect_equivalent(last3, n, 3, k, got, ref, 1e-5);
+  }
+}
+
+TEST(Knn, DuplicatePointsBreakTiesByIndexExactly) {
+  // Integer grid points, each present three times: every distance is an exact
+  // small integer, so ties are exact and must be broken by index.
+  std::vector<float> p;
+  for (int copy = 0; copy < 3; ++copy) {
+    for (int x = 0; x < 6; ++x) {
+      for (int y = 0; y < 5; ++y) {
+        for (int z = 0; z < 4; ++z) p.insert(p.end(), {float(x), float(y), float(z)});
+      }
+    }
+  }
+  const std::size_t n = p.size() / 3, k = 20;
+  std::vector<std::uint32_t> ref(n * k);
+  knn_reference(p.data(), 3, n, 3, k, ref.data());
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data(), 3, n, 3, k, level, ws, got.data());
+    EXPECT_EQ(got, ref) << to_string(level);
+  }
+}
+
+TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
+  const std::size_t n = 7, k = 20;
+  const auto p = test::random_floats(n * 3, 12);
+  std::vector<std::uint32_t> ref(n * k);
+  knn_reference(p.data(), 3, n, 3, k, ref.data());
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data(), 3, n, 3, k, level, ws, got.data());
+    EXPECT_EQ(got, ref);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::set<std::uint32_t> distinct(got.begin() + i * k, got.begin() + (i + 1) * k);
+      EXPECT_EQ(distinct.size(), n);
+      EXPECT_EQ(got[i * k + k - 1], i);
+    }
+  }
+}
+
+TEST(Knn, AllEqualPointsGiveTheFirstKIndices) {
+  const std::size_t n = 100, k = 20, dim = 64;
+  std::vector<float> p(n * dim, 0.25f);
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data(), dim, n, dim, k, level, ws, got.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = 0; j < k; ++j) ASSERT_EQ(got[i * k + j], j);
+    }
+  }
+}
+
+TEST(Knn, SameResultWithOneAndTwoThreads) {
+  const std::size_t n = 2000, k = 20, dim = 64;
+  const auto p = test::random_floats(n * dim, 13);
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> one(n * k), two(n * k);
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+      knn(p.data(), dim, n, dim, k, level, ws, one.data());
+    }
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+      knn(p.data(), dim, n, dim, k, level, ws, two.data());
+    }
+    EXPECT_EQ(one, two);
+  }
+}
+
+TEST(Knn, RejectsSizesOutsideItsLimits) {
+  std::vector<float> p(30, 0.0f);
+  std::vector<std::uint32_t> idx(1000);
+  KnnWorkspace ws;
+  EXPECT_THROW(knn(p.data(), 3, 10, 3, 0, SimdLevel::Sse42, ws, idx.data()), std::invalid_argument);
+  EXPECT_THROW(knn(p.data(), 3, 10, 3, kKnnMaxK + 1, SimdLevel::Sse42, ws, idx.data()), std::invalid_argument);
+  EXPECT_THROW(knn(p.data(), 3, 0, 3, 5, SimdLevel::Sse42, ws, idx.data()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sarmap::kernels

@@ -1,0 +1,266 @@
+#!/usr/bin/python3
+# sarmap's own PyTorch DGCNN (the DGCNN_semseg layout and state_dict names of
+# the reference implementation), used as the ground truth the C++ network is
+# tested against. It writes the golden fixtures under tests/data/dgcnn/
+# (random weights with BN statistics measured on a real-looking block, input
+# blocks, expected logits computed in float64) and runs a model on a block.
+#
+#   /usr/bin/python3 tools/python/dgcnn_reference.py fixtures tests/data/dgcnn
+#   /usr/bin/python3 tools/python/dgcnn_reference.py run M.safetensors B.npy out.npy
+#   /usr/bin/python3 tools/python/dgcnn_reference.py random-model M.safetensors --channels 6
+import argparse
+import os
+import sys
+
+import numpy as np
+import torch
+import torch.nn as nn
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from export_safetensors import DEFAULT_METADATA, read_safetensors, write_safetensors  # noqa: E402
+
+
+def knn(x, k):
+    """x: (B, D, N) -> (B, N, k) neighbour indices; a point is its own neighbour."""
+    inner = -2 * torch.matmul(x.transpose(2, 1), x)
+    xx = torch.sum(x ** 2, dim=1, keepdim=True)
+    neg_dist = -xx - inner - xx.transpose(2, 1)
+    return neg_dist.topk(k=k, dim=-1)[1]
+
+
+def edge_features(x, k, knn_channels=None):
+    """x: (B, D, N) -> (B, 2D, N, k) holding [x_j - x_i, x_i]."""
+    b, d, n = x.shape
+    idx = knn(x if knn_channels is None else x[:, knn_channels], k)
+    flat = (idx + torch.arange(b).view(-1, 1, 1) * n).view(-1)
+    pts = x.transpose(2, 1).contiguous()
+    neighbours = pts.view(b * n, d)[flat].view(b, n, k, d)
+    centre = pts.view(b, n, 1, d).expand(-1, -1, k, -1)
+    return torch.cat((neighbours - centre, centre), dim=3).permute(0, 3, 1, 2).contiguous()
+
+
+def _conv2d(cin, cout, bn):
+    return nn.Sequential(nn.Conv2d(cin, cout, 1, bias=False), bn, nn.LeakyReLU(0.2))
+
+
+def _conv1d(cin, cout, bn):
+    return nn.Sequential(nn.Conv1d(cin, cout, 1, bias=False), bn, nn.LeakyReLU(0.2))
+
+
+class DGCNNSemSeg(nn.Module):
+    """The reference DGCNN_semseg network; widths are parameters so fixtures stay small."""
+
+    def __init__(self, channels=6, classes=4, emb=1024, k=20, edge=64, head=(512, 256)):
+        super().__init__()
+        self.k = k
+        self.bn1, self.bn2, self.bn3 = nn.BatchNorm2d(edge), nn.BatchNorm2d(edge), nn.BatchNorm2d(edge)
+        self.bn4, self.bn5 = nn.BatchNorm2d(edge), nn.BatchNorm2d(edge)
+        self.bn6 = nn.BatchNorm1d(emb)
+        self.bn7, self.bn8 = nn.BatchNorm1d(head[0]), nn.BatchNorm1d(head[1])
+        self.conv1 = _conv2d(2 * channels, edge, self.bn1)
+        self.conv2 = _conv2d(edge, edge, self.bn2)
+        self.conv3 = _conv2d(2 * edge, edge, self.bn3)
+        self.conv4 = _conv2d(edge, edge, self.bn4)
+        self.conv5 = _conv2d(2 * edge, edge, self.bn5)
+        self.conv6 = _conv1d(3 * edge, emb, self.bn6)
+        self.conv7 = _conv1d(emb + 3 * edge, head[0], self.bn7)
+        self.conv8 = _conv1d(head[0], head[1], self.bn8)
+        self.dp1 = nn.Dropout(0.5)
+        self.conv9 = nn.Conv1d(head[1], classes, 1, bias=False)
+
+    def forward(self, x):
+        """x: (B, C, N) -> logits (B, classes, N)."""
+        n = x.size(2)
+        c = x.size(1)
+        x = edge_features(x, self.k, knn_channels=slice(c - 3, c))
+        x1 = self.conv2(self.conv1(x)).max(dim=-1)[0]
+        x = edge_features(x1, self.k)
+        x2 = self.conv4(self.conv3(x)).max(dim=-1)[0]
+        x = edge_features(x2, self.k)
+        x3 = self.conv5(x).max(dim=-1)[0]
+        local = torch.cat((x1, x2, x3), dim=1)
+        glob = self.conv6(local).max(dim=-1, keepdim=True)[0].repeat(1, 1, n)
+        x = self.conv8(self.conv7(torch.cat((glob, local), dim=1)))
+        return self.conv9(self.dp1(x))
+
+
+def model_from_tensors(tensors, k=20):
+    """Builds a DGCNNSemSeg whose widths follow the tensor shapes (accepts "module.")."""
+    tensors = {name[7:] if name.startswith("module.") else name: t for name, t in tensors.items()}
+    channels = tensors["conv1.0.weight"].shape[1] // 2
+    edge = tensors["conv1.0.weight"].shape[0]
+    emb = tensors["conv6.0.weight"].shape[0]
+    head = (tensors["conv7.0.weight"].shape[0], tensors["conv8.0.weight"].shape[0])
+    classes = tensors["conv9.weight"].shape[0]
+    model = DGCNNSemSeg(channels, classes, emb, k, edge, head)
+    state = {name: torch.from_numpy(np.array(t)) for name, t in tensors.items()}
+    model.load_state_dict(state, strict=False)
+    return model.eval()
+
+
+def block_features(xyz, rgb, cell_origin, block_size, z_min, z_max):
+    """The one definition of a block's input features (C++: engine/semantic/block_features.cpp).
+
+    xyz (M, 3) world coordinates, rgb (M, 3) in [0, 255] or None. Returns
+    (M, 6) = [x - cx, y - cy, z, nx, ny, nz] or, with rgb, (M, 9) =
+    [x - cx, y - cy, z, r, g, b, nx, ny, nz]; cx, cy is the cell's centre and
+    n* normalise within the cell (xy) and the fixed height range (z).
+    """
+    x0, y0 = cell_origin
+    local = np.stack([xyz[:, 0] - (x0 + 0.5 * block_size), xyz[:, 1] - (y0 + 0.5 * block_size), xyz[:, 2]], 1)
+    norm = np.stack([(xyz[:, 0] - x0) / block_size, (xyz[:, 1] - y0) / block_size,
+                     (xyz[:, 2] - z_min) / (z_max - z_min)], 1)
+    parts = [local] if rgb is None else [local, rgb / 255.0]
+    return np.concatenate(parts + [norm], 1).astype("<f4")
+
+
+def synthetic_block(rng, n, unique, cell_origin, with_rgb):
+    """A 1 m cell with a floor, a wall and a ramp; `unique` distinct points repeated up to n."""
+    x0, y0 = cell_origin
+    u = rng.random((unique, 2))
+    kind = rng.choice(3, size=unique, p=[0.5, 0.3, 0.2])
+    xyz = np.zeros((unique, 3))
+    xyz[:, 0] = x0 + u[:, 0]
+    xyz[:, 1] = y0 + u[:, 1]
+    wall = kind == 1
+    xyz[wall, 0] = x0 + 0.7
+    xyz[wall, 2] = 1.2 * rng.random(wall.sum())
+    ramp = kind == 2
+    xyz[ramp, 0] = x0 + 0.4 * u[ramp, 0]
+    xyz[ramp, 2] = 0.3 * u[ramp, 1]
+    xyz += rng.normal(0.0, 0.004, xyz.shape)
+    order = np.concatenate([np.arange(unique), rng.integers(0, unique, n - unique)])
+    xyz = xyz[order]
+    rgb = None
+    if with_rgb:
+        palette = np.array([[200, 180, 40], [210, 40, 40], [40, 80, 220]], dtype=float)
+        rgb = np.clip(palette[kind[order]] + rng.normal(0, 12, (n, 3)), 0, 255)
+    z_min, z_max = float(DEFAULT_METADATA["sarmap.z_min"]), float(DEFAULT_METADATA["sarmap.z_max"])
+    return block_features(xyz, rgb, cell_origin, 1.0, z_min, z_max)
+
+
+def randomise(model, rng, calibration_block):
+    """Random weights, then BN statistics measured on a real-looking block."""
+    gen = torch.Generator().manual_seed(int(rng.integers(1 << 31)))
+    for module in model.modules():
+        if isinstance(module, (nn.Conv1d, nn.Conv2d)):
+            fan_in = module.weight.shape[1]
+            module.weight.data = torch.randn(module.weight.shape, generator=gen) * (1.0 / fan_in) ** 0.5
+        if isinstance(module, (nn.BatchNorm1d, nn.BatchNorm2d)):
+            c = module.num_features
+            sign = torch.where(torch.rand(c, generator=gen) < 0.1, -1.0, 1.0)  # some negative scales
+            module.weight.data = sign * (0.5 + torch.rand(c, generator=gen))
+            module.bias.data = 0.2 * torch.randn(c, generator=gen)
+            module.momentum = None  # running stats = the calibration batch's stats
+            module.reset_running_stats()
+    model.train()
+    with torch.no_grad():
+        model(torch.from_numpy(calibration_block.T[None].copy()))
+    model.eval()
+
+
+def reference_logits(model, block):
+    """float64 forward pass: block (N, C) -> logits (N, classes) as float32."""
+    m = model.double()
+    with torch.inference_mode():
+        out = m(torch.from_numpy(block.astype(np.float64).T[None].copy()))[0].T.numpy()
+    model.float()
+    return out.astype("<f4")
+
+
+def knn_margin(model, block):
+    """Smallest relative gap between the k-th and (k+1)-th neighbour distance over the three kNNs.
+
+    A tiny gap means float32 rounding could pick another neighbour than the
+    float64 reference, so fixtures are checked to be well conditioned.
+    """
+    m = model.double()
+    k = model.k
+    gaps = []
+    x = torch.from_numpy(block.astype(np.float64).T[None].copy())
+    c = x.size(1)
+
+    def gap(f):
+        d = torch.cdist(f[0].T, f[0].T) ** 2
+        s = d.sort(dim=1)[0]
+        scale = s[:, k].clamp_min(1e-12)
+        return float(((s[:, k] - s[:, k - 1]) / scale).min())
+
+    with torch.inference_mode():
+        gaps.append(gap(x[:, c - 3:]))
+        x1 = m.conv2(m.conv1(edge_features(x, k, slice(c - 3, c)))).max(dim=-1)[0]
+        gaps.append(gap(x1))
+        x2 = m.conv4(m.conv3(edge_features(x1, k))).max(dim=-1)[0]
+        gaps.append(gap(x2))
+    model.float()
+    return gaps
+
+
+def state_numpy(model):
+    return {name: t.detach().numpy().astype("<f4") if t.is_floating_point() else t.numpy()
+            for name, t in model.state_dict().items()}
+
+
+def write_fixtures(out_dir):
+    rng = np.random.default_rng(20240605)
+    os.makedirs(out_dir, exist_ok=True)
+    specs = [  # channels, classes, emb, head, class names
+        (6, 4, 64, (64, 32), "terrain,wall,inclined_ramp,flat_ramp"),
+        (9, 5, 96, (48, 32), "terrain,wall,inclined_ramp,flat_ramp,other"),
+    ]
+    for channels, classes, emb, head, names in specs:
+        torch.manual_seed(channels)
+        model = DGCNNSemSeg(channels, classes, emb, 20, 64, head)
+        blocks = {n: synthetic_block(rng, n, int(n * 0.8), (3.0, -2.0), channels == 9) for n in (4096, 1024)}
+        randomise(model, rng, blocks[4096])
+        metadata = dict(DEFAULT_METADATA)
+        metadata["sarmap.classes"] = names
+        write_safetensors(os.path.join(out_dir, f"model_c{channels}.safetensors"), state_numpy(model), metadata)
+        for n, block in blocks.items():
+            logits = reference_logits(model, block)
+            np.save(os.path.join(out_dir, f"block_c{channels}_n{n}.npy"), block)
+            np.save(os.path.join(out_dir, f"logits_c{channels}_n{n}.npy"), logits)
+            print(f"C={channels} N={n}: logit range {logits.min():.3f}..{logits.max():.3f}, "
+                  f"kNN relative margins {['%.1e' % g for g in knn_margin(model, block)]}")
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="sarmap's reference DGCNN")
+    sub = parser.add_subparsers(dest="command", required=True)
+    fx = sub.add_parser("fixtures", help="write the golden fixtures")
+    fx.add_argument("out_dir")
+    run = sub.add_parser("run", help="run a .safetensors model on an (N, C) .npy block")
+    run.add_argument("model")
+    run.add_argument("block")
+    run.add_argument("logits")
+    rnd = sub.add_parser("random-model", help="a full-size random model (benchmarks)")
+    rnd.add_argument("model")
+    rnd.add_argument("--channels", type=int, default=6)
+    rnd.add_argument("--classes", type=int, default=4)
+    rnd.add_argument("--emb", type=int, default=1024)
+    rnd.add_argument("--block", help="also write a synthetic 4096-point block here")
+    args = parser.parse_args(argv)
+
+    if args.command == "fixtures":
+        write_fixtures(args.out_dir)
+    elif args.command == "run":
+        tensors, metadata = read_safetensors(args.model)
+        model = model_from_tensors(tensors, int(metadata.get("sarmap.k", 20)))
+        np.save(args.logits, reference_logits(model, np.load(args.block)))
+    else:
+        rng = np.random.default_rng(7)
+        model = DGCNNSemSeg(args.channels, args.classes, args.emb, 20)
+        block = synthetic_block(rng, 4096, 3500, (0.0, 0.0), args.channels == 9)
+        randomise(model, rng, block)
+        metadata = dict(DEFAULT_METADATA)
+        names = ["terrain", "wall", "inclined_ramp", "flat_ramp", "other"]
+        if not 1 <= args.classes <= len(names):
+            parser.error(f"--classes must be 1..{len(names)}")
+        metadata["sarmap.classes"] = ",".join(names[: args.classes])
+        write_safetensors(args.model, state_numpy(model), metadata)
+        if args.block:
+            np.save(args.block, block)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
