@@ -26,6 +26,9 @@ class ScanSource {
   virtual const SensorInfo& sensor() const = 0;
   // "sarmap", "tum", "7scenes" or "cloud" (a single PLY/PCD file as one scan).
   virtual std::string layout() const = 0;
+  // Frames of the dataset left out of the sequence (a TUM depth frame with no
+  // ground-truth pose close enough in time); size() does not count them.
+  virtual std::size_t skipped_frames() const { return 0; }
 };
 
 struct ScanSequenceOptions {
@@ -34,6 +37,9 @@ struct ScanSequenceOptions {
   std::optional<std::filesystem::path> intrinsics_file;
   // Depth values larger than this are dropped for depth images (0 = keep all).
   double max_depth = 0.0;
+  // TUM RGB-D: a depth frame takes the ground-truth pose nearest in time and
+  // is skipped when that pose is farther than this (seconds).
+  double max_time_difference = 0.02;
 };
 
 // Opens a folder in one of the known layouts, or a single PLY/PCD file as a

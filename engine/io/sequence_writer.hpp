@@ -5,39 +5,37 @@
 // sequence.json: {"version": 1, "points_frame": "world" | "sensor",
 //   "sensor": {"type": ..., "max_range": ..., ...intrinsics},
 //   "frames": [{"file", "pose": [16 row-major], "origin": [x,y,z], "timestamp"}]}
+// (format and checks: sarmap_sequence_manifest.hpp)
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
-#include <vector>
 
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
+#include "engine/io/sarmap_sequence_manifest.hpp"
 
 namespace sarmap {
 
-inline constexpr int kSequenceFormatVersion = 1;
-
 class SequenceWriter {
  public:
-  // Creates the folder if needed. Points are written in the world frame.
+  // Creates the folder if needed and removes a sequence.json already there,
+  // so the old index never names frames being overwritten. Throws
+  // InvalidArgument for a sensor the reader would refuse (intrinsics without
+  // an image size, range or intrinsics without a sensor type, ...).
   SequenceWriter(std::filesystem::path folder, SensorInfo sensor);
-  // Writes the scan's points as the next frame and records its pose, origin, timestamp.
+  // Writes the scan's points (world frame) as the next frame and records its
+  // pose, origin, timestamp. Timestamps must not decrease.
   void add(const Scan& scan);
   // Writes sequence.json. Nothing names the frames until this is called.
   void finish();
-  std::size_t frames_written() const { return frames_.size(); }
+  std::size_t frames_written() const { return manifest_.frames.size(); }
+  const std::filesystem::path& folder() const { return folder_; }
 
  private:
-  struct FrameRecord {
-    std::string file;
-    Eigen::Matrix4d pose;
-    Eigen::Vector3d origin;
-    double timestamp;
-  };
   std::filesystem::path folder_;
-  SensorInfo sensor_;
-  std::vector<FrameRecord> frames_;
+  SequenceManifest manifest_;
+  bool finished_ = false;
 };
 
 }  // namespace sarmap

@@ -1,0 +1,33 @@
+// Turns a depth image into points with the pinhole model, in the camera's
+// optical frame (x right, y down, z forward): pixel (u, v) with depth d
+// becomes ((u - cx) d / fx, (v - cy) d / fy, d).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/core/sensor_info.hpp"
+#include "engine/io/depth_image.hpp"
+
+namespace sarmap {
+
+struct DepthDecoding {
+  // Raw samples per metre: 5000 for TUM RGB-D, 1000 for 7-Scenes (millimetres).
+  double units_per_metre = 1000.0;
+  // Raw 0 always means "no measurement"; some datasets also mark 65535 so.
+  bool max_value_is_invalid = false;
+  // Depths beyond this (metres) are dropped; 0 keeps all.
+  double max_depth = 0.0;
+};
+
+// Valid pixels only, in row-major pixel order. Throws InvalidData when the
+// intrinsics name an image size other than the image's.
+PointBuffer back_project(const DepthImage& image, const PinholeIntrinsics& intrinsics,
+                         const DepthDecoding& decoding);
+
+// read_depth_png + back_project, with the file named in every error.
+PointBuffer read_depth_png_points(const std::filesystem::path& path, const PinholeIntrinsics& intrinsics,
+                                  const DepthDecoding& decoding);
+
+}  // namespace sarmap

@@ -1,0 +1,45 @@
+#include "engine/io/single_cloud_source.hpp"
+
+#include "engine/core/error.hpp"
+#include "engine/io/point_cloud_file.hpp"
+
+namespace sarmap {
+namespace {
+
+class SingleCloudSource final : public ScanSource {
+ public:
+  explicit SingleCloudSource(std::filesystem::path path) : path_(std::move(path)) {}
+
+  std::size_t size() const override { return 1; }
+  bool next(Scan& scan) override {
+    if (done_) return false;
+    PointCloudFileInfo info;
+    PointBuffer points = read_point_cloud(path_, &info);
+    scan = Scan{};
+    scan.points = std::move(points);
+    scan.source = path_.string();
+    scan.dropped_non_finite = info.dropped_non_finite;
+    done_ = true;
+    return true;
+  }
+  void rewind() override { done_ = false; }
+  const SensorInfo& sensor() const override { return sensor_; }
+  std::string layout() const override { return "cloud"; }
+
+ private:
+  std::filesystem::path path_;
+  SensorInfo sensor_;
+  bool done_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<ScanSource> open_single_cloud(const std::filesystem::path& path) {
+  point_cloud_format_of(path);  // throws for an extension other than .ply / .pcd
+  if (!std::filesystem::is_regular_file(path)) {
+    throw Error(ErrorCode::Io, path.string() + ": no such point-cloud file");
+  }
+  return std::make_unique<SingleCloudSource>(path);
+}
+
+}  // namespace sarmap
