@@ -1,0 +1,77 @@
+#include "engine/metric/label_fusion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "engine/core/error.hpp"
+
+namespace sarmap::metric {
+
+LabelFusion::LabelFusion(const LabelFusionSettings& s) : settings_(s) {
+  if (!(s.label_confidence > 1.0 / kClassCount && s.label_confidence < 1.0)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "label fusion: label_confidence must be in (1/6, 1), got " + std::to_string(s.label_confidence));
+  }
+  if (!(s.evidence_clamp > 0.0 && s.evidence_clamp <= 120.0)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "label fusion: evidence_clamp must be in (0, 120] nats, got " + std::to_string(s.evidence_clamp));
+  }
+  if (!(s.free_evidence_keep >= 0.0 && s.free_evidence_keep < 1.0)) {
+    throw Error(ErrorCode::InvalidArgument, "label fusion: free_evidence_keep must be in [0, 1), got " +
+                                                std::to_string(s.free_evidence_keep));
+  }
+  clamp_ = static_cast<int>(std::lround(s.evidence_clamp * kEvidenceScale));
+  keep_q8_ = static_cast<int>(std::lround(s.free_evidence_keep * 256.0));
+}
+
+void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) const {
+  if (obs.points == 0) return;
+  if (settings_.fusion == ClassFusion::Histogram) {
+    int needed = 0;
+    for (std::size_t c = 0; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
+    // Counts saturate by halving every class, which keeps their ratios.
+    while (needed > 32767) {
+      for (auto& e : evidence) e = static_cast<std::int16_t>(e / 2);
+      needed = 0;
+      for (std::size_t c = 0; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
+    }
+    for (std::size_t c = 0; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(evidence[c] + obs.counts[c]);
+    return;
+  }
+  // Bayesian: p(c | z) from the mean of the points' distributions; each class
+  // gains log p(c|z) - log p(pivot|z), the pivot being class 0.
+  std::array<double, kClassCount> p{};
+  const double n = obs.points;
+  if (obs.has_scores) {
+    double total = 0;
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      p[c] = std::max(static_cast<double>(obs.score_sums[c]) / n, 1e-4);
+      total += p[c];
+    }
+    for (auto& v : p) v /= total;
+  } else {
+    const double conf = settings_.label_confidence;
+    const double rest = (1.0 - conf) / (kClassCount - 1);
+    for (std::size_t c = 0; c < kClassCount; ++c) p[c] = (obs.counts[c] * conf + (n - obs.counts[c]) * rest) / n;
+  }
+  const double log_pivot = std::log(p[0]);
+  for (std::size_t c = 1; c < kClassCount; ++c) {
+    const long delta = std::lround((std::log(p[c]) - log_pivot) * kEvidenceScale);
+    evidence[c] = static_cast<std::int16_t>(std::clamp<long>(evidence[c] + delta, -clamp_, clamp_));
+  }
+}
+
+void LabelFusion::decay(ClassEvidence& evidence) const {
+  for (auto& e : evidence) e = static_cast<std::int16_t>(e * keep_q8_ / 256);
+}
+
+ClassId LabelFusion::dominant(const ClassEvidence& evidence) {
+  std::size_t best = 0;
+  for (std::size_t c = 1; c < kClassCount; ++c) {
+    if (evidence[c] > evidence[best]) best = c;
+  }
+  return static_cast<ClassId>(best);
+}
+
+}  // namespace sarmap::metric

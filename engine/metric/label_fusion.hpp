@@ -1,0 +1,59 @@
+// Fusing per-point class labels into per-voxel class evidence: paper 000's
+// histogram (count points per class, dominant class wins) or a multi-class
+// recursive Bayesian update in log-odds space (paper 003), selectable.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "engine/core/classes.hpp"
+
+namespace sarmap::metric {
+
+enum class ClassFusion : std::uint8_t { Histogram = 0, Bayesian = 1 };
+
+// Bayesian evidence is int16 fixed point: 1 unit = 1/256 nat (clamp <= 120 nats).
+inline constexpr double kEvidenceScale = 256.0;
+
+struct LabelFusionSettings {
+  ClassFusion fusion = ClassFusion::Bayesian;
+  // p(label | z) assumed for a hard label; the rest is spread evenly over the other classes.
+  double label_confidence = 0.9;
+  // Bayesian evidence stays within +-this many nats, so a voxel can still change class.
+  double evidence_clamp = 20.0;
+  // Fraction of its class evidence a free voxel keeps per miss: free voxels
+  // carry no class, but one that turns free loses it gradually.
+  double free_evidence_keep = 0.5;
+};
+
+using ClassEvidence = std::array<std::int16_t, kClassCount>;
+
+// What the points that fell in one voxel during one scan said about its class.
+struct ClassObservation {
+  std::array<std::uint16_t, kClassCount> counts{};  // points per hard label (saturating)
+  std::array<float, kClassCount> score_sums{};      // sums of per-class probabilities
+  bool has_scores = false;
+  std::uint32_t points = 0;
+};
+
+class LabelFusion {
+ public:
+  // Throws sarmap::Error (InvalidArgument) for a confidence outside (1/6, 1),
+  // an evidence clamp outside (0, 120] or a keep fraction outside [0, 1).
+  explicit LabelFusion(const LabelFusionSettings& settings = {});
+
+  const LabelFusionSettings& settings() const { return settings_; }
+  // One update per voxel per scan, with everything its points said.
+  void observe(ClassEvidence& evidence, const ClassObservation& observation) const;
+  // A miss that leaves the voxel free: evidence shrinks towards none.
+  void decay(ClassEvidence& evidence) const;
+  // The class with the most evidence (lowest id on ties); Unknown when none has any.
+  static ClassId dominant(const ClassEvidence& evidence);
+
+ private:
+  LabelFusionSettings settings_;
+  int clamp_ = 0;
+  int keep_q8_ = 0;
+};
+
+}  // namespace sarmap::metric

@@ -1,0 +1,302 @@
+// One scan in four passes: (1) serial dedupe of end points per voxel, with
+// their class observations; (2) parallel DDA walks that only set "miss" bits
+// in per-thread, per-block 512-bit masks (no locks, no atomics, no map
+// access); (3) a serial merge of the masks (OR, so the union does not depend
+// on which thread walked which ray), block creation in sorted key order, and
+// hit bits that override misses; (4) parallel updates, one block or one hit
+// voxel per task, so every voxel is written exactly once by one thread.
+#include "engine/metric/ray_integrator.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/metric/flat_key_index.hpp"
+#include "engine/metric/voxel_ray.hpp"
+
+namespace sarmap::metric {
+
+namespace {
+
+using BlockMask = std::array<std::uint64_t, kBlockVoxels / 64>;
+
+struct ThreadRays {
+  FlatKeyIndex blocks{4096};
+  std::vector<BlockMask> miss;
+  std::size_t visits = 0;
+
+  void clear() {
+    blocks.clear();
+    miss.clear();
+    visits = 0;
+  }
+};
+
+struct RayEnd {
+  double x, y, z;  // voxel units
+};
+
+}  // namespace
+
+struct RayIntegrator::Scratch {
+  FlatKeyIndex end_index{65536};
+  std::vector<VoxelKey> end_keys;
+  std::vector<ClassObservation> observations;
+  std::vector<std::uint8_t> end_in_range;  // per distinct end voxel: is it a hit
+  std::vector<RayEnd> ray_ends;
+  tbb::enumerable_thread_specific<ThreadRays> threads;
+  FlatKeyIndex merged{16384};
+  std::vector<BlockMask> merged_miss, merged_hit;
+  std::vector<std::uint32_t> order;
+  std::vector<MetricMap::Blocks::Block*> block_of_index;
+  std::vector<std::uint32_t> hit_list;
+};
+
+IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
+  points_in += o.points_in;
+  points_rejected += o.points_rejected;
+  end_voxels += o.end_voxels;
+  rays += o.rays;
+  voxel_visits += o.voxel_visits;
+  hits += o.hits;
+  misses += o.misses;
+  blocks_created += o.blocks_created;
+  return *this;
+}
+
+RayIntegrator::RayIntegrator(const IntegratorSettings& settings)
+    : settings_(settings), scratch_(std::make_unique<Scratch>()) {
+  if (!(settings.max_range >= 0.0) || !std::isfinite(settings.max_range)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "ray integrator: max_range must be finite and >= 0, got " + std::to_string(settings.max_range));
+  }
+}
+RayIntegrator::~RayIntegrator() = default;
+RayIntegrator::RayIntegrator(RayIntegrator&&) noexcept = default;
+RayIntegrator& RayIntegrator::operator=(RayIntegrator&&) noexcept = default;
+
+namespace {
+
+// Score channels for all classes, by class id, or empty when any is missing.
+std::vector<std::span<const float>> class_score_channels(const PointBuffer& points) {
+  std::vector<std::span<const float>> channels;
+  for (const ClassInfo& info : kClassTable) {
+    const std::size_t c = points.find_score(std::string(info.name));
+    if (c == points.score_count()) return {};
+    channels.push_back(points.score(c));
+  }
+  return channels;
+}
+
+void add_observation(ClassObservation& obs, const PointBuffer& points, std::size_t i,
+                     const std::vector<std::span<const float>>& scores) {
+  ++obs.points;
+  std::size_t label = 0;
+  if (!scores.empty()) {
+    obs.has_scores = true;
+    float best = -1.0f;
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      const float s = scores[c][i];
+      obs.score_sums[c] += s;
+      if (s > best) best = s, label = c;
+    }
+  } else if (points.has_labels()) {
+    label = points.labels()[i];
+  }
+  if (obs.counts[label] < 0xffff) ++obs.counts[label];
+}
+
+}  // namespace
+
+IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& points,
+                                          const Eigen::Vector3d& origin) {
+  Scratch& s = *scratch_;
+  IntegrationStats stats;
+  stats.points_in = points.size();
+  if (!within_map_limits(origin.x(), origin.y(), origin.z())) {
+    throw Error(ErrorCode::OutOfRange, "ray integrator: sensor origin (" + std::to_string(origin.x()) + ", " +
+                                           std::to_string(origin.y()) + ", " + std::to_string(origin.z()) +
+                                           ") is beyond the map limits of +-10 km or not finite");
+  }
+  if (points.has_labels()) {
+    const auto labels = points.labels();
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      if (labels[i] >= kClassCount) {
+        throw Error(ErrorCode::InvalidData, "ray integrator: point " + std::to_string(i) + " has label " +
+                                                std::to_string(labels[i]) + "; class ids are 0..5");
+      }
+    }
+  }
+  const auto scores = settings_.use_scores ? class_score_channels(points) : std::vector<std::span<const float>>{};
+
+  const double inv_res = map.inv_resolution();
+  const double res = map.resolution();
+  const RayEnd o{origin.x() * inv_res, origin.y() * inv_res, origin.z() * inv_res};
+  const double max_range = settings_.max_range;
+  // Range is measured in voxel units to stay in one coordinate system.
+  const double max_range_v = max_range * inv_res;
+
+  // Pass 1: distinct end voxels, their observations, and the rays.
+  s.end_index.clear();
+  s.end_keys.clear();
+  s.observations.clear();
+  s.end_in_range.clear();
+  s.ray_ends.clear();
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  const auto beyond = [&](double dx, double dy, double dz) {
+    return max_range > 0 && std::sqrt(dx * dx + dy * dy + dz * dz) * res > max_range;
+  };
+  const auto add_ray = [&](const RayEnd& end) -> bool {
+    const double dx = end.x - o.x, dy = end.y - o.y, dz = end.z - o.z;
+    if (!beyond(dx, dy, dz)) {
+      s.ray_ends.push_back(end);
+      return true;
+    }
+    if (settings_.clear_beyond_max_range) {
+      const double f = max_range_v / std::sqrt(dx * dx + dy * dy + dz * dz);
+      s.ray_ends.push_back({o.x + dx * f, o.y + dy * f, o.z + dz * f});
+    }
+    return false;
+  };
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double x = xs[i], y = ys[i], z = zs[i];
+    if (!within_map_limits(x, y, z)) {
+      ++stats.points_rejected;
+      continue;
+    }
+    const VoxelKey key = key_of(x, y, z, inv_res);
+    if (!settings_.discretize) {
+      // Every point casts its own ray; only those in range are hits.
+      if (!add_ray({x * inv_res, y * inv_res, z * inv_res})) continue;
+    }
+    const std::uint32_t u = s.end_index.find_or_insert(pack(key));
+    if (u == s.end_keys.size()) {
+      s.end_keys.push_back(key);
+      s.observations.emplace_back();
+    }
+    add_observation(s.observations[u], points, i, scores);
+  }
+  stats.end_voxels = s.end_keys.size();
+  s.end_in_range.assign(s.end_keys.size(), 1);
+  if (settings_.discretize) {
+    for (std::size_t u = 0; u < s.end_keys.size(); ++u) {
+      const VoxelKey& k = s.end_keys[u];
+      s.end_in_range[u] = add_ray({k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
+    }
+  }
+  stats.rays = s.ray_ends.size();
+
+  // Pass 2: parallel walks into per-thread miss masks.
+  for (ThreadRays& t : s.threads) t.clear();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      ThreadRays& t = s.threads.local();
+                      std::uint64_t cached_word = ~std::uint64_t{0};
+                      std::uint64_t* mask = nullptr;
+                      const auto mark = [&](const VoxelKey& v) {
+                        const std::uint64_t word =
+                            pack(v.x >> kBlockShift, v.y >> kBlockShift, v.z >> kBlockShift);
+                        if (word != cached_word) {
+                          const std::uint32_t b = t.blocks.find_or_insert(word);
+                          if (b == t.miss.size()) t.miss.emplace_back();
+                          mask = t.miss[b].data();
+                          cached_word = word;
+                        }
+                        const int l = local_index(v);
+                        mask[l >> 6] |= std::uint64_t{1} << (l & 63);
+                        return true;
+                      };
+                      const double start[3] = {o.x, o.y, o.z};
+                      std::size_t visits = 0;
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        const double end[3] = {s.ray_ends[r].x, s.ray_ends[r].y, s.ray_ends[r].z};
+                        visits += walk_ray(start, end, mark);
+                      }
+                      t.visits += visits;
+                    });
+
+  // Pass 3: merge, add hits, create blocks in sorted order.
+  s.merged.clear();
+  s.merged_miss.clear();
+  const auto merged_index = [&](std::uint64_t word) {
+    const std::uint32_t b = s.merged.find_or_insert(word);
+    if (b == s.merged_miss.size()) s.merged_miss.emplace_back();
+    return b;
+  };
+  for (ThreadRays& t : s.threads) {
+    stats.voxel_visits += t.visits;
+    const auto& keys = t.blocks.keys();
+    for (std::size_t b = 0; b < keys.size(); ++b) {
+      BlockMask& m = s.merged_miss[merged_index(keys[b])];
+      for (std::size_t w = 0; w < m.size(); ++w) m[w] |= t.miss[b][w];
+    }
+  }
+  s.hit_list.clear();
+  for (std::uint32_t u = 0; u < s.end_keys.size(); ++u) {
+    if (s.end_in_range[u]) s.hit_list.push_back(u);
+  }
+  for (std::uint32_t u : s.hit_list) merged_index(pack(block_of(s.end_keys[u])));
+  s.merged_hit.assign(s.merged_miss.size(), BlockMask{});
+  for (std::uint32_t u : s.hit_list) {
+    const int l = local_index(s.end_keys[u]);
+    s.merged_hit[s.merged.find(pack(block_of(s.end_keys[u])))][l >> 6] |= std::uint64_t{1} << (l & 63);
+  }
+  const auto& merged_keys = s.merged.keys();
+  s.order.resize(merged_keys.size());
+  for (std::uint32_t b = 0; b < s.order.size(); ++b) s.order[b] = b;
+  std::sort(s.order.begin(), s.order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return merged_keys[a] < merged_keys[b]; });
+  auto& blocks = map.blocks();
+  const std::size_t blocks_before = blocks.block_count();
+  s.block_of_index.resize(merged_keys.size());
+  for (std::uint32_t b : s.order) s.block_of_index[b] = &blocks.find_or_create(unpack_block(merged_keys[b]));
+  stats.blocks_created = blocks.block_count() - blocks_before;
+  for (std::size_t b = 0; b < merged_keys.size(); ++b) {
+    for (std::size_t w = 0; w < BlockMask{}.size(); ++w) {
+      stats.misses += static_cast<std::size_t>(std::popcount(s.merged_miss[b][w] & ~s.merged_hit[b][w]));
+    }
+  }
+  stats.hits = s.hit_list.size();
+
+  // Pass 4: parallel updates; each voxel belongs to exactly one task.
+  const OccupancyModel& occ = map.occupancy();
+  const LabelFusion& fusion = map.fusion();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                        auto& voxels = s.block_of_index[b]->voxels;
+                        for (std::size_t w = 0; w < BlockMask{}.size(); ++w) {
+                          std::uint64_t bits = s.merged_miss[b][w] & ~s.merged_hit[b][w];
+                          while (bits) {
+                            SemanticVoxel& v = voxels[w * 64 + static_cast<std::size_t>(std::countr_zero(bits))];
+                            bits &= bits - 1;
+                            v.log_odds = occ.add(v.log_odds, occ.miss());
+                            if (occ.state(v.log_odds) == VoxelState::Free) fusion.decay(v.evidence);
+                          }
+                        }
+                      }
+                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.hit_list.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const std::uint32_t u = s.hit_list[i];
+                        const VoxelKey& k = s.end_keys[u];
+                        auto* block = s.block_of_index[s.merged.find(pack(block_of(k)))];
+                        SemanticVoxel& v = block->voxels[local_index(k)];
+                        v.log_odds = occ.add(v.log_odds, occ.hit());
+                        fusion.observe(v.evidence, s.observations[u]);
+                      }
+                    });
+  return stats;
+}
+
+}  // namespace sarmap::metric

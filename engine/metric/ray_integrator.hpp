@@ -1,0 +1,69 @@
+// Writes one scan into the metric map: a DDA ray from the sensor origin to
+// every end point, misses along it and a hit at its end, with OctoMap's
+// discretised per-scan semantics, parallel over oneTBB and bit-identical for
+// any thread count.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/metric/metric_map.hpp"
+
+namespace sarmap::metric {
+
+struct IntegratorSettings {
+  // Rays longer than this (metres) are cut here and mark misses only; 0 = no limit.
+  double max_range = 0.0;
+  // When false, points beyond max_range are ignored instead of clearing space
+  // up to it (true suits LiDAR no-returns reported at or beyond max range).
+  bool clear_beyond_max_range = true;
+  // Cast one ray per distinct end voxel, to the voxel centre (OctoMap's
+  // insertPointCloud with discretize=true); false casts to every true end point.
+  bool discretize = true;
+  // Use per-class score channels named after the classes (probabilities) when
+  // the buffer has all six; otherwise the hard labels.
+  bool use_scores = true;
+};
+
+// Per-scan figures; summed over scans by operator+=.
+struct IntegrationStats {
+  std::size_t points_in = 0;
+  // Non-finite or beyond +-10 km: rejected and counted, never wrapped.
+  std::size_t points_rejected = 0;
+  std::size_t end_voxels = 0;    // distinct voxels holding a usable point
+  std::size_t rays = 0;          // rays cast (cut rays included)
+  std::size_t voxel_visits = 0;  // voxels walked by all rays, repeats included
+  std::size_t hits = 0;          // voxels updated as occupied this scan
+  std::size_t misses = 0;        // voxels updated as free this scan
+  std::size_t blocks_created = 0;
+
+  IntegrationStats& operator+=(const IntegrationStats& o);
+};
+
+class RayIntegrator {
+ public:
+  // Throws sarmap::Error (InvalidArgument) for a negative or non-finite max_range.
+  explicit RayIntegrator(const IntegratorSettings& settings = {});
+  ~RayIntegrator();
+  RayIntegrator(RayIntegrator&&) noexcept;
+  RayIntegrator& operator=(RayIntegrator&&) noexcept;
+
+  const IntegratorSettings& settings() const { return settings_; }
+
+  // Integrates the scan's points (world frame) seen from origin. Each voxel is
+  // updated at most once; a voxel hit in this scan is not also marked free.
+  // Throws sarmap::Error before touching the map for an origin beyond the map
+  // limits (OutOfRange) or a label that is not a class id (InvalidData).
+  // Uses the calling thread's oneTBB arena; not reentrant per integrator.
+  IntegrationStats integrate(MetricMap& map, const PointBuffer& points, const Eigen::Vector3d& origin);
+
+ private:
+  struct Scratch;
+  IntegratorSettings settings_;
+  std::unique_ptr<Scratch> scratch_;
+};
+
+}  // namespace sarmap::metric

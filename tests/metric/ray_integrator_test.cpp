@@ -1,0 +1,261 @@
+// The parallel integrator: hand-worked rays, OctoMap's per-scan semantics,
+// bit-identical maps for 1 and 2 threads, and agreement with a plain serial
+// reference (std::set of voxels per scan) on a synthetic room.
+#include "engine/metric/ray_integrator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include <tbb/task_arena.h>
+
+#include "engine/core/error.hpp"
+#include "engine/metric/voxel_ray.hpp"
+#include "tests/metric/synthetic_room.hpp"
+
+namespace sarmap::metric {
+namespace {
+
+constexpr double kRes = 0.05;
+
+PointBuffer cloud(std::initializer_list<Eigen::Vector3f> pts, std::uint8_t label = 2) {
+  PointBuffer b;
+  b.enable_labels();
+  for (const auto& p : pts) {
+    b.push_back(p.x(), p.y(), p.z());
+    b.labels()[b.size() - 1] = label;
+  }
+  return b;
+}
+
+std::int16_t log_odds(const MetricMap& m, VoxelKey k) {
+  const SemanticVoxel* v = m.blocks().voxel(k);
+  return v ? v->log_odds : kUnknownLogOdds;
+}
+
+bool maps_identical(const MetricMap& a, const MetricMap& b) {
+  const auto ka = a.blocks().sorted_block_keys(), kb = b.blocks().sorted_block_keys();
+  if (ka != kb) return false;
+  for (const BlockKey& k : ka) {
+    const auto& va = a.blocks().find(k)->voxels;
+    const auto& vb = b.blocks().find(k)->voxels;
+    if (std::memcmp(va.data(), vb.data(), sizeof(va)) != 0) return false;
+  }
+  return true;
+}
+
+TEST(RayIntegrator, SingleRayMarksMissesThenAHit) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  const auto stats = integrator.integrate(map, cloud({{0.525f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.rays, 1u);
+  EXPECT_EQ(stats.hits, 1u);
+  EXPECT_EQ(stats.misses, 10u);
+  EXPECT_EQ(stats.voxel_visits, 10u);
+  for (int x = 0; x < 10; ++x) EXPECT_EQ(log_odds(map, {x, 0, 0}), map.occupancy().miss()) << x;
+  EXPECT_EQ(log_odds(map, {10, 0, 0}), map.occupancy().hit());
+  EXPECT_EQ(map.state({10, 0, 0}), VoxelState::Occupied);
+  EXPECT_EQ(map.state({11, 0, 0}), VoxelState::Unknown);
+  EXPECT_EQ(map.state({5, 1, 0}), VoxelState::Unknown);
+  EXPECT_EQ(map.class_of({10, 0, 0}), ClassId::Wall);
+}
+
+TEST(RayIntegrator, LogOddsClampLikeOctoMap) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  for (int i = 0; i < 10; ++i) integrator.integrate(map, cloud({{0.525f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(log_odds(map, {10, 0, 0}), map.occupancy().max());
+  EXPECT_EQ(log_odds(map, {3, 0, 0}), map.occupancy().min());
+  EXPECT_NEAR(OccupancyModel::probability(map.occupancy().max()), 0.97, 1e-3);
+}
+
+TEST(RayIntegrator, EndPointsInOneVoxelCastOnceAndHitsWinOverMisses) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  // Two points in voxel (10,0,0), one in voxel (5,0,0) on the same line of sight.
+  const auto stats = integrator.integrate(
+      map, cloud({{0.51f, 0.02f, 0.03f}, {0.54f, 0.03f, 0.02f}, {0.27f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.end_voxels, 2u);
+  EXPECT_EQ(stats.rays, 2u);
+  EXPECT_EQ(stats.hits, 2u);
+  EXPECT_EQ(log_odds(map, {5, 0, 0}), map.occupancy().hit());  // hit, not also a miss
+  EXPECT_EQ(log_odds(map, {4, 0, 0}), map.occupancy().miss());  // once, though two rays cross it
+}
+
+TEST(RayIntegrator, ZeroLengthRayAndOriginInsideAnOccupiedVoxel) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  // A point in the origin's own voxel: a hit, nothing walked.
+  auto stats = integrator.integrate(map, cloud({{0.03f, 0.03f, 0.03f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.voxel_visits, 0u);
+  EXPECT_EQ(stats.misses, 0u);
+  EXPECT_EQ(map.state({0, 0, 0}), VoxelState::Occupied);
+  // Now the sensor sits in that occupied voxel and sees a point further on:
+  // its own voxel is on the ray and takes a miss (OctoMap's semantics).
+  stats = integrator.integrate(map, cloud({{0.225f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.misses, 4u);
+  EXPECT_EQ(log_odds(map, {0, 0, 0}), map.occupancy().hit() + map.occupancy().miss());
+  EXPECT_EQ(map.state({4, 0, 0}), VoxelState::Occupied);
+}
+
+TEST(RayIntegrator, MaxRangeCutsRaysIntoMissesOnly) {
+  MetricMap map({kRes});
+  IntegratorSettings s;
+  s.max_range = 0.5;
+  RayIntegrator integrator(s);
+  const auto stats = integrator.integrate(map, cloud({{2.025f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.hits, 0u);
+  EXPECT_EQ(stats.rays, 1u);
+  // Cut at x = 0.525: voxels 0..9 free, the cut end's voxel 10 not marked (as OctoMap).
+  EXPECT_EQ(stats.misses, 10u);
+  EXPECT_EQ(map.state({9, 0, 0}), VoxelState::Free);
+  EXPECT_EQ(map.state({10, 0, 0}), VoxelState::Unknown);
+  EXPECT_EQ(map.state({40, 0, 0}), VoxelState::Unknown);
+
+  s.clear_beyond_max_range = false;
+  MetricMap quiet({kRes});
+  RayIntegrator ignoring(s);
+  const auto none = ignoring.integrate(quiet, cloud({{2.025f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  EXPECT_EQ(none.rays, 0u);
+  EXPECT_TRUE(quiet.blocks().empty());
+}
+
+TEST(RayIntegrator, TrueEndPointsWhenNotDiscretised) {
+  IntegratorSettings s;
+  s.discretize = false;
+  MetricMap map({kRes});
+  RayIntegrator integrator(s);
+  const auto stats = integrator.integrate(map, cloud({{0.51f, 0.02f, 0.03f}, {0.54f, 0.03f, 0.02f}}),
+                                          {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.rays, 2u);
+  EXPECT_EQ(stats.hits, 1u);
+  EXPECT_EQ(map.state({10, 0, 0}), VoxelState::Occupied);
+}
+
+TEST(RayIntegrator, RejectsAndCountsPointsBeyondTenKilometres) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  PointBuffer pts = cloud({{0.525f, 0.025f, 0.025f}, {10000.5f, 0, 0}, {0, -20000, 0}});
+  pts.push_back(std::nanf(""), 0, 0);
+  const auto stats = integrator.integrate(map, pts, {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.points_in, 4u);
+  EXPECT_EQ(stats.points_rejected, 3u);
+  EXPECT_EQ(stats.rays, 1u);
+  EXPECT_THROW(integrator.integrate(map, pts, {20000, 0, 0}), Error);
+}
+
+TEST(RayIntegrator, BadLabelThrowsBeforeTouchingTheMap) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  PointBuffer pts = cloud({{0.525f, 0.025f, 0.025f}, {0.3f, 0.2f, 0.1f}});
+  pts.labels()[1] = 9;
+  try {
+    integrator.integrate(map, pts, {0.025, 0.025, 0.025});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidData);
+    EXPECT_NE(std::string(e.what()).find("point 1 has label 9"), std::string::npos);
+  }
+  EXPECT_TRUE(map.blocks().empty());
+}
+
+TEST(RayIntegrator, HistogramFusionCountsPointsPerClass) {
+  MetricMapSettings ms{kRes};
+  ms.fusion.fusion = ClassFusion::Histogram;
+  MetricMap map(ms);
+  RayIntegrator integrator;
+  PointBuffer pts = cloud({{0.51f, 0.02f, 0.03f}, {0.52f, 0.03f, 0.02f}, {0.53f, 0.01f, 0.01f}});
+  pts.labels()[0] = static_cast<std::uint8_t>(ClassId::Terrain);
+  integrator.integrate(map, pts, {0.025, 0.025, 0.025});
+  const ClassEvidence e = map.evidence({10, 0, 0});
+  EXPECT_EQ(e[static_cast<int>(ClassId::Terrain)], 1);
+  EXPECT_EQ(e[static_cast<int>(ClassId::Wall)], 2);
+  EXPECT_EQ(map.class_of({10, 0, 0}), ClassId::Wall);
+}
+
+TEST(RayIntegrator, FreedVoxelLosesItsClassGradually) {
+  MetricMap map({kRes});
+  RayIntegrator integrator;
+  for (int i = 0; i < 3; ++i) integrator.integrate(map, cloud({{0.275f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+  const int wall = static_cast<int>(ClassId::Wall);
+  const int before = map.evidence({5, 0, 0})[wall];
+  ASSERT_GT(before, 0);
+  std::vector<int> seen;
+  std::vector<VoxelState> states;
+  for (int i = 0; i < 40; ++i) {
+    integrator.integrate(map, cloud({{0.775f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
+    seen.push_back(map.evidence({5, 0, 0})[wall]);
+    states.push_back(map.state({5, 0, 0}));
+  }
+  const auto first_free = std::find(states.begin(), states.end(), VoxelState::Free) - states.begin();
+  ASSERT_LT(first_free, 40);
+  EXPECT_EQ(seen[0], before);  // misses while still occupied keep the class
+  EXPECT_EQ(map.class_of({5, 0, 0}), ClassId::Unknown);  // free voxels carry no class
+  // Not at once: evidence remains after the voxel turned free, then fades to none.
+  EXPECT_GT(seen[first_free], 0);
+  EXPECT_LT(seen[first_free], before);
+  EXPECT_EQ(seen.back(), 0);
+}
+
+// A plain serial version of the same semantics, for comparison.
+void reference_integrate(MetricMap& map, const PointBuffer& pts, const Eigen::Vector3d& origin) {
+  const double inv = map.inv_resolution();
+  auto less = [](const VoxelKey& a, const VoxelKey& b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); };
+  std::map<VoxelKey, ClassObservation, decltype(less)> ends(less);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    auto& o = ends[key_of(pts.x()[i], pts.y()[i], pts.z()[i], inv)];
+    ++o.points;
+    ++o.counts[pts.labels()[i]];
+  }
+  std::set<VoxelKey, decltype(less)> free(less);
+  const double start[3] = {origin.x() * inv, origin.y() * inv, origin.z() * inv};
+  for (const auto& [k, obs] : ends) {
+    const double end[3] = {k.x + 0.5, k.y + 0.5, k.z + 0.5};
+    walk_ray(start, end, [&](const VoxelKey& v) {
+      free.insert(v);
+      return true;
+    });
+  }
+  MetricMap::Blocks::Accessor access(map.blocks());
+  for (const VoxelKey& k : free) {
+    if (ends.count(k)) continue;
+    SemanticVoxel& v = access.get_or_create(k);
+    v.log_odds = map.occupancy().add(v.log_odds, map.occupancy().miss());
+    if (map.occupancy().state(v.log_odds) == VoxelState::Free) map.fusion().decay(v.evidence);
+  }
+  for (const auto& [k, obs] : ends) {
+    SemanticVoxel& v = access.get_or_create(k);
+    v.log_odds = map.occupancy().add(v.log_odds, map.occupancy().hit());
+    map.fusion().observe(v.evidence, obs);
+  }
+}
+
+TEST(RayIntegrator, OneAndTwoThreadsGiveBitIdenticalMapsEqualToTheReference) {
+  testing::SyntheticRoom room;
+  for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
+    MetricMapSettings ms{0.05};
+    ms.fusion.fusion = fusion;
+    MetricMap one(ms), two(ms), reference(ms);
+    RayIntegrator a, b;
+    tbb::task_arena arena1(1), arena2(2);
+    for (int f = 0; f < 6; ++f) {
+      const auto scan = room.frame(f, 6, 64, 48);
+      IntegrationStats s1, s2;
+      arena1.execute([&] { s1 = a.integrate(one, scan.points, scan.origin); });
+      arena2.execute([&] { s2 = b.integrate(two, scan.points, scan.origin); });
+      reference_integrate(reference, scan.points, scan.origin);
+      EXPECT_EQ(s1.voxel_visits, s2.voxel_visits);
+      EXPECT_EQ(s1.misses, s2.misses);
+      EXPECT_GT(s1.misses, 1000u);
+    }
+    EXPECT_TRUE(maps_identical(one, two));
+    EXPECT_TRUE(maps_identical(one, reference));
+    EXPECT_GT(one.counts().occupied, 500u);
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::metric
