@@ -25,6 +25,9 @@ struct PointCloudFileInfo {
 
 struct PointCloudWriteOptions {
   bool binary = true;  // false writes ASCII
+  // PCD only, with binary: DATA binary_compressed (LZF, stored field by field).
+  // PLY has no compressed encoding and ignores it.
+  bool compressed = false;
 };
 
 // Throws sarmap::Error for an unknown extension or a malformed file.

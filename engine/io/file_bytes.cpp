@@ -1,0 +1,51 @@
+#include "engine/io/file_bytes.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <string>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "engine/core/error.hpp"
+
+namespace sarmap {
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& path, std::string_view action, int error) {
+  throw Error(ErrorCode::Io, path.string() + ": cannot " + std::string(action) + ": " + std::strerror(error));
+}
+
+// Closes the descriptor on every path out of read_file_bytes.
+struct Descriptor {
+  int fd;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
+
+FileBytes read_file_bytes(const std::filesystem::path& path) {
+  const Descriptor file{::open(path.c_str(), O_RDONLY | O_CLOEXEC)};
+  if (file.fd < 0) fail(path, "open", errno);
+  struct stat status {};
+  if (::fstat(file.fd, &status) != 0) fail(path, "stat", errno);
+  if (S_ISDIR(status.st_mode)) fail(path, "read", EISDIR);
+  const auto size = static_cast<std::size_t>(status.st_size);
+  // Uninitialised on purpose: every byte is overwritten by read() below.
+  auto data = std::make_unique_for_overwrite<char[]>(size == 0 ? 1 : size);
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t got = ::read(file.fd, data.get() + done, size - done);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      fail(path, "read", errno);
+    }
+    if (got == 0) break;  // the file shrank while we read it
+    done += static_cast<std::size_t>(got);
+  }
+  return FileBytes(std::move(data), done);
+}
+
+}  // namespace sarmap
