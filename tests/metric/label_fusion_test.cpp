@@ -1,0 +1,92 @@
+// Class fusion: histogram counts, Bayesian log-odds against the pivot class,
+// saturation, decay of freed voxels, and settings validation.
+#include "engine/metric/label_fusion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/core/error.hpp"
+
+namespace sarmap::metric {
+namespace {
+
+ClassObservation hard(ClassId id, std::uint16_t n) {
+  ClassObservation o;
+  o.counts[static_cast<int>(id)] = n;
+  o.points = n;
+  return o;
+}
+
+TEST(LabelFusion, HistogramCountsAndSaturatesByHalving) {
+  LabelFusionSettings s;
+  s.fusion = ClassFusion::Histogram;
+  const LabelFusion f(s);
+  ClassEvidence e{};
+  f.observe(e, hard(ClassId::Wall, 3));
+  f.observe(e, hard(ClassId::Terrain, 2));
+  EXPECT_EQ(e[2], 3);
+  EXPECT_EQ(e[1], 2);
+  EXPECT_EQ(LabelFusion::dominant(e), ClassId::Wall);
+  e[2] = 32000;
+  e[1] = 1000;
+  f.observe(e, hard(ClassId::Wall, 1000));
+  EXPECT_EQ(e[2], 16000 + 1000);
+  EXPECT_EQ(e[1], 500);
+}
+
+TEST(LabelFusion, BayesianAddsLogRatioAgainstThePivot) {
+  const LabelFusion f;  // Bayesian, confidence 0.9
+  ClassEvidence e{};
+  f.observe(e, hard(ClassId::InclinedRamp, 1));
+  const double expected = std::log(0.9 / 0.02) * kEvidenceScale;
+  EXPECT_NEAR(e[3], expected, 1.0);
+  EXPECT_EQ(e[0], 0);
+  EXPECT_EQ(e[1], 0);
+  EXPECT_EQ(LabelFusion::dominant(e), ClassId::InclinedRamp);
+  // Two later observations of flat ramp outweigh one of inclined ramp.
+  f.observe(e, hard(ClassId::FlatRamp, 1));
+  f.observe(e, hard(ClassId::FlatRamp, 1));
+  EXPECT_EQ(LabelFusion::dominant(e), ClassId::FlatRamp);
+  // Evidence is clamped, so a voxel can still change its mind.
+  for (int i = 0; i < 100; ++i) f.observe(e, hard(ClassId::FlatRamp, 1));
+  EXPECT_EQ(e[4], static_cast<int>(20.0 * kEvidenceScale));
+}
+
+TEST(LabelFusion, BayesianUsesScoresWhenGiven) {
+  const LabelFusion f;
+  ClassObservation o;
+  o.points = 2;
+  o.has_scores = true;
+  o.score_sums = {0.2f, 1.2f, 0.2f, 0.2f, 0.1f, 0.1f};  // mean: terrain 0.6, unknown 0.1
+  ClassEvidence e{};
+  f.observe(e, o);
+  EXPECT_NEAR(e[1], std::log(0.6 / 0.1) * kEvidenceScale, 1.0);
+  EXPECT_NEAR(e[4], std::log(0.05 / 0.1) * kEvidenceScale, 1.0);
+}
+
+TEST(LabelFusion, DecayShrinksEvidenceGradually) {
+  const LabelFusion f;
+  ClassEvidence e{0, 0, 1000, -400, 0, 0};
+  f.decay(e);
+  EXPECT_EQ(e[2], 500);
+  EXPECT_EQ(e[3], -200);
+  for (int i = 0; i < 12; ++i) f.decay(e);
+  EXPECT_EQ(e[2], 0);
+  EXPECT_EQ(LabelFusion::dominant(ClassEvidence{}), ClassId::Unknown);
+}
+
+TEST(LabelFusion, RejectsBadSettings) {
+  LabelFusionSettings s;
+  s.label_confidence = 0.1;
+  EXPECT_THROW(LabelFusion{s}, Error);
+  s = {};
+  s.evidence_clamp = 500;
+  EXPECT_THROW(LabelFusion{s}, Error);
+  s = {};
+  s.free_evidence_keep = 1.0;
+  EXPECT_THROW(LabelFusion{s}, Error);
+}
+
+}  // namespace
+}  // namespace sarmap::metric
