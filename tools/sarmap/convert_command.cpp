@@ -1,0 +1,160 @@
+// `sarmap convert IN OUT`: PLY <-> PCD (binary, or --ascii), and a scan
+// sequence into one merged cloud (every frame in the world frame, appended)
+// or into a sarmap sequence folder. --voxel SIZE keeps only the first point
+// that falls in each cube of that size, to thin merged clouds.
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/core/error.hpp"
+#include "engine/io/point_cloud_file.hpp"
+#include "engine/io/scan_source.hpp"
+#include "engine/io/sequence_writer.hpp"
+#include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/progress.hpp"
+
+namespace sarmap::cli {
+namespace {
+
+struct ConvertArgs {
+  std::string in;
+  std::string out;
+  bool ascii = false;
+  double voxel = 0.0;
+  bool quiet = false;
+  std::string intrinsics;
+  double max_time_difference = 0.02;
+};
+
+// Remembers which voxels hold a point already, across every frame added.
+class VoxelThinning {
+ public:
+  explicit VoxelThinning(double size) : size_(size) {}
+
+  // Keeps the points whose voxel is new.
+  PointBuffer thin(const PointBuffer& points) {
+    std::vector<std::uint32_t> keep;
+    keep.reserve(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (occupied_.insert(key(points.x()[i], points.y()[i], points.z()[i])).second) {
+        keep.push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+    return points.select(keep);
+  }
+
+ private:
+  // 21 bits per axis: +-2^20 voxels around the origin (10 km at 1 cm).
+  static constexpr double kLimit = 1 << 20;
+
+  std::uint64_t key(float x, float y, float z) const {
+    const double c[3] = {std::floor(x / size_), std::floor(y / size_), std::floor(z / size_)};
+    std::uint64_t k = 0;
+    for (const double v : c) {
+      if (!(v >= -kLimit && v < kLimit)) {
+        throw Error(ErrorCode::OutOfRange, "convert: --voxel " + std::to_string(size_) + ": point (" +
+                                               std::to_string(x) + ", " + std::to_string(y) + ", " +
+                                               std::to_string(z) +
+                                               ") is more than 2^20 voxels from the origin; use larger voxels");
+      }
+      k = (k << 21) | static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + (1 << 20));
+    }
+    return k;
+  }
+
+  double size_;
+  std::unordered_set<std::uint64_t> occupied_;
+};
+
+bool is_cloud_path(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".ply" || ext == ".pcd";
+}
+
+void run_convert(const ConvertArgs& a) {
+  if (a.voxel != 0 && !(a.voxel > 0 && std::isfinite(a.voxel))) {
+    throw Error(ErrorCode::InvalidArgument, "convert: --voxel must be a positive size in metres");
+  }
+  PointCloudWriteOptions write_options;
+  write_options.binary = !a.ascii;
+  std::optional<VoxelThinning> thinning;
+  if (a.voxel > 0) thinning.emplace(a.voxel);
+  const std::filesystem::path in(a.in), out(a.out);
+
+  if (std::filesystem::is_regular_file(in) && in.filename() != "sequence.json") {
+    if (!is_cloud_path(out)) {
+      throw Error(ErrorCode::InvalidArgument, "convert: " + a.out + ": a cloud converts to a .ply or .pcd file");
+    }
+    PointBuffer points = read_point_cloud(in);
+    if (thinning) points = thinning->thin(points);
+    write_point_cloud(out, points, write_options);
+    if (!a.quiet) std::printf("%s: %zu points\n", a.out.c_str(), points.size());
+    return;
+  }
+
+  std::error_code ec;
+  if (std::filesystem::equivalent(in, out, ec)) {
+    throw Error(ErrorCode::InvalidArgument, "convert: " + a.out + " is the input sequence itself");
+  }
+  ScanSequenceOptions options;
+  if (!a.intrinsics.empty()) options.intrinsics_file = a.intrinsics;
+  options.max_time_difference = a.max_time_difference;
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(in, options);
+  ProgressLine progress("convert", source->size(), !a.quiet);
+  Scan scan;
+  std::size_t frames = 0;
+  if (is_cloud_path(out)) {
+    PointBuffer merged;
+    while (source->next(scan)) {
+      merged.append(thinning ? thinning->thin(scan.points) : scan.points);
+      progress.update(++frames);
+    }
+    write_point_cloud(out, merged, write_options);
+    progress.finish();
+    if (!a.quiet) std::printf("%s: %zu points from %zu frames\n", a.out.c_str(), merged.size(), frames);
+    return;
+  }
+  if (a.ascii) throw Error(ErrorCode::InvalidArgument, "convert: --ascii applies to .ply / .pcd output only");
+  SequenceWriter writer(out, source->sensor());
+  std::size_t points = 0;
+  while (source->next(scan)) {
+    if (thinning) scan.points = thinning->thin(scan.points);
+    points += scan.points.size();
+    writer.add(scan);
+    progress.update(++frames);
+  }
+  writer.finish();
+  progress.finish();
+  if (!a.quiet) std::printf("%s: sarmap sequence, %zu frames, %zu points\n", a.out.c_str(), frames, points);
+}
+
+}  // namespace
+
+void add_convert_command(CLI::App& app) {
+  auto args = std::make_shared<ConvertArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "convert",
+      "Convert PLY <-> PCD, or a scan sequence into one merged cloud (OUT.ply / OUT.pcd) or a sarmap "
+      "sequence folder (OUT without extension)");
+  cmd->add_option("in", args->in, "PLY / PCD file or sequence folder (sarmap, TUM RGB-D, 7-Scenes)")->required();
+  cmd->add_option("out", args->out, "Output .ply / .pcd file, or a folder for a sarmap sequence")->required();
+  cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
+  cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)");
+  cmd->add_option("--intrinsics", args->intrinsics,
+                  "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
+  cmd->add_option("--max-time-difference", args->max_time_difference,
+                  "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
+      ->capture_default_str();
+  cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
+  cmd->callback([args] { run_convert(*args); });
+}
+
+}  // namespace sarmap::cli
