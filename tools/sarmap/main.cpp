@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
 
   // One line per subcommand (tools/sarmap/<name>_command.cpp).
   // (none registered yet)
+  sarmap::cli::add_info_command(app);
+  sarmap::cli::add_convert_command(app);
 
   try {
     app.parse(argc, argv);
