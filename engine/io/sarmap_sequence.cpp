@@ -36,7 +36,12 @@ class SarmapSequence final : public ScanSource {
     PointBuffer points = read_point_cloud(file, &info);
     if (points.has_labels()) check_labels(points.labels(), file.string(), "label");
     if (points.has_gt_labels()) check_labels(points.gt_labels(), file.string(), "gt_label");
-    if (manifest_.points_frame == PointsFrame::Sensor) frame.pose.apply(points);
+    std::size_t dropped = info.dropped_non_finite;
+    if (manifest_.points_frame == PointsFrame::Sensor) {
+      frame.pose.apply(points);
+      // A coordinate near the float limit can overflow once moved.
+      dropped += points.remove_non_finite();
+    }
     scan = Scan{};
     scan.points = std::move(points);
     scan.pose = frame.pose;
@@ -44,7 +49,7 @@ class SarmapSequence final : public ScanSource {
     scan.timestamp = frame.timestamp;
     scan.index = next_;
     scan.source = file.string();
-    scan.dropped_non_finite = info.dropped_non_finite;
+    scan.dropped_non_finite = dropped;
     ++next_;
     return true;
   }

@@ -7,6 +7,7 @@
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/sequence_writer.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/io/png_test_writer.hpp"
 #include "tests/io/scratch_folder.hpp"
 
 namespace sarmap {
@@ -121,6 +122,26 @@ TEST(CliInfo, ErrorsGoToStderrWithANonZeroExit) {
   r = run_cli("info " + quoted(dir.path().string()), dir.path());  // holds only the captured output files
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("not a recognised scan sequence"));
+}
+
+TEST(CliInfo, TumFolderNeedsIntrinsicsAndReportsSkippedFrames) {
+  test::ScratchFolder dir;
+  std::filesystem::create_directories(dir / "tum/depth");
+  for (int f = 0; f < 3; ++f) {
+    test::write_png_gray16(dir / ("tum/depth/" + std::to_string(f) + ".png"), 2, 2, {5000, 0, 10000, 5000});
+  }
+  dir.write("tum/depth.txt", "# timestamp filename\n1.00 depth/0.png\n1.10 depth/1.png\n1.90 depth/2.png\n");
+  dir.write("tum/groundtruth.txt", "1.00 0 0 0 0 0 0 1\n1.11 1 0 0 0 0 0 1\n");
+  const auto k = dir.write("k.txt", "100 0 0.5\n0 100 0.5\n0 0 1\n");
+  auto r = run_cli("info " + quoted((dir / "tum").string()), dir.path());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("--intrinsics"));
+  r = run_cli("info --intrinsics " + quoted(k.string()) + " " + quoted((dir / "tum").string()), dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("layout: tum"));
+  EXPECT_THAT(r.out, HasSubstr("frames: 2 (1 more skipped: no pose within 0.02 s)"));
+  EXPECT_THAT(r.out, HasSubstr("points: 6\n"));
+  EXPECT_THAT(r.out, HasSubstr("path length 1.000 m"));
 }
 
 }  // namespace
