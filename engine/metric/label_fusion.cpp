@@ -23,6 +23,14 @@ LabelFusion::LabelFusion(const LabelFusionSettings& s) : settings_(s) {
   }
   clamp_ = static_cast<int>(std::lround(s.evidence_clamp * kEvidenceScale));
   keep_q8_ = static_cast<int>(std::lround(s.free_evidence_keep * 256.0));
+  const double rest = (1.0 - s.label_confidence) / (kClassCount - 1);
+  for (std::size_t l = 0; l < kClassCount; ++l) {
+    const double log_pivot = std::log(l == 0 ? s.label_confidence : rest);
+    for (std::size_t c = 1; c < kClassCount; ++c) {
+      const double log_p = std::log(c == l ? s.label_confidence : rest);
+      unanimous_[l][c] = static_cast<int>(std::lround((log_p - log_pivot) * kEvidenceScale));
+    }
+  }
 }
 
 void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) const {
@@ -41,6 +49,15 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
   }
   // Bayesian: p(c | z) from the mean of the points' distributions; each class
   // gains log p(c|z) - log p(pivot|z), the pivot being class 0.
+  if (!obs.has_scores) {
+    for (std::size_t l = 0; l < kClassCount; ++l) {
+      if (obs.counts[l] != obs.points) continue;
+      for (std::size_t c = 1; c < kClassCount; ++c) {
+        evidence[c] = static_cast<std::int16_t>(std::clamp(evidence[c] + unanimous_[l][c], -clamp_, clamp_));
+      }
+      return;
+    }
+  }
   std::array<double, kClassCount> p{};
   const double n = obs.points;
   if (obs.has_scores) {

@@ -54,6 +54,9 @@ class LabelFusion {
   LabelFusionSettings settings_;
   int clamp_ = 0;
   int keep_q8_ = 0;
+  // Bayesian deltas when every point of the voxel has label l, the common
+  // case: precomputed, since six logs per hit voxel showed in profiles.
+  std::array<std::array<int, kClassCount>, kClassCount> unanimous_{};
 };
 
 }  // namespace sarmap::metric

@@ -29,8 +29,8 @@ inline constexpr double kRayTieTolerance = 1e-9;
 template <class Visit>
 inline std::size_t walk_ray(const double start[3], const double end[3], Visit&& visit) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::int32_t v[3], last[3], step[3], face[3];
-  double inv[3], t[3];
+  std::int32_t v[3], last[3], step[3];
+  double inv[3], face[3], t[3], next[3];
   double length2 = 0;
   for (int i = 0; i < 3; ++i) {
     v[i] = static_cast<std::int32_t>(std::floor(start[i]));
@@ -39,30 +39,33 @@ inline std::size_t walk_ray(const double start[3], const double end[3], Visit&& 
     length2 += d * d;
     // An axis moves only if start and end lie in different slabs; then d != 0.
     step[i] = last[i] > v[i] ? 1 : (last[i] < v[i] ? -1 : 0);
-    face[i] = step[i] > 0 ? 1 : 0;  // offset of the face the ray leaves through
+    // The face the ray leaves the current voxel through, as a coordinate.
+    face[i] = static_cast<double>(v[i] + (step[i] > 0 ? 1 : 0));
     inv[i] = step[i] != 0 ? 1.0 / d : 0.0;
-    t[i] = step[i] != 0 ? (static_cast<double>(v[i] + face[i]) - start[i]) * inv[i] : kInf;
+    t[i] = step[i] != 0 ? (face[i] - start[i]) * inv[i] : kInf;
+    next[i] = (face[i] + step[i] - start[i]) * inv[i];
   }
   if (step[0] == 0 && step[1] == 0 && step[2] == 0) return 0;
   // Parameters are fractions of the segment; the tolerance is in voxels of path.
   const double eps = kRayTieTolerance / std::sqrt(length2);
   std::size_t visited = 0;
+  // Branch-free stepping: which axes step is data-dependent and would
+  // mispredict about once per voxel, so the selects compile to blends. The
+  // candidate next crossings are computed before the selection is known, so
+  // the chain carried from one voxel to the next is only min, compare, select.
+  // (Kept as locals in one function: a resumable walker object to interleave
+  // rays measured slower, its state went through memory.)
   while (true) {
     ++visited;
     if (!visit(VoxelKey{v[0], v[1], v[2]})) return visited;
-    const double tmin = std::fmin(t[0], std::fmin(t[1], t[2])) + eps;
-    const bool s0 = t[0] <= tmin, s1 = t[1] <= tmin, s2 = t[2] <= tmin;
-    if (s0) {
-      v[0] += step[0];
-      t[0] = v[0] == last[0] ? kInf : (static_cast<double>(v[0] + face[0]) - start[0]) * inv[0];
-    }
-    if (s1) {
-      v[1] += step[1];
-      t[1] = v[1] == last[1] ? kInf : (static_cast<double>(v[1] + face[1]) - start[1]) * inv[1];
-    }
-    if (s2) {
-      v[2] += step[2];
-      t[2] = v[2] == last[2] ? kInf : (static_cast<double>(v[2] + face[2]) - start[2]) * inv[2];
+    const double t01 = t[0] < t[1] ? t[0] : t[1];  // std::fmin would be a libm call
+    const double tmin = t01 < t[2] ? t01 : t[2];
+    for (int i = 0; i < 3; ++i) {
+      const bool s = t[i] - eps <= tmin;
+      v[i] += s ? step[i] : 0;
+      face[i] += s ? static_cast<double>(step[i]) : 0.0;
+      t[i] = s ? (v[i] == last[i] ? kInf : next[i]) : t[i];
+      next[i] = (face[i] + step[i] - start[i]) * inv[i];
     }
     if (v[0] == last[0] && v[1] == last[1] && v[2] == last[2]) return visited;
   }

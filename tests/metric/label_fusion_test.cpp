@@ -90,3 +90,25 @@ TEST(LabelFusion, RejectsBadSettings) {
 
 }  // namespace
 }  // namespace sarmap::metric
+
+namespace sarmap::metric {
+namespace {
+
+TEST(LabelFusion, UnanimousShortcutMatchesTheGeneralFormula) {
+  const LabelFusion f;
+  for (int l = 0; l < 6; ++l) {
+    ClassEvidence fast{}, general{};
+    f.observe(fast, hard(static_cast<ClassId>(l), 3));
+    // Same distribution through the general path: a mixed observation whose
+    // minority share is zero is not possible, so use scores equal to the hard model.
+    ClassObservation o;
+    o.points = 3;
+    o.has_scores = true;
+    for (int c = 0; c < 6; ++c) o.score_sums[c] = 3.0f * (c == l ? 0.9f : 0.02f);
+    f.observe(general, o);
+    for (int c = 0; c < 6; ++c) EXPECT_NEAR(fast[c], general[c], 1) << l << " " << c;
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::metric
