@@ -10,5 +10,7 @@ namespace sarmap::cli {
 // (declarations: void add_<name>_command(CLI::App& app);)
 void add_info_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);
+void add_eval_command(CLI::App& app);
 
 }  // namespace sarmap::cli

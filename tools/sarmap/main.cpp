@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   // (none registered yet)
   sarmap::cli::add_info_command(app);
   sarmap::cli::add_convert_command(app);
+  sarmap::cli::add_simulate_command(app);
+  sarmap::cli::add_eval_command(app);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,134 @@
+#include "engine/eval/run_evaluation.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/core/error.hpp"
+#include "engine/io/ply.hpp"
+
+namespace sarmap::eval {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kPointsFile = "semantic_points.ply";
+constexpr const char* kMapFile = "map.sarmap";
+constexpr const char* kGraphFile = "graph.json";
+
+Json optional_number(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
+
+std::string percent(const std::optional<double>& v) {
+  if (!v) return "n/a";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f%%", 100.0 * *v);
+  return text;
+}
+
+}  // namespace
+
+RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(run_dir, ec)) {
+    throw Error(ErrorCode::Io, run_dir.string() + ": run folder not found");
+  }
+  RunEvaluation e;
+  e.arena_name = arena.name;
+  e.run_dir = run_dir;
+  for (const char* name : {kPointsFile, kMapFile, kGraphFile}) {
+    e.files.push_back({name, std::filesystem::is_regular_file(run_dir / name, ec)});
+  }
+  if (e.files[0].present) {
+    const std::filesystem::path path = run_dir / kPointsFile;
+    e.points = evaluate_points(read_ply(path), path.string());
+  } else {
+    e.notes.push_back(std::string(kPointsFile) + " absent: no per-point figures");
+  }
+  if (!e.files[1].present) e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
+  if (!e.files[2].present) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
+  return e;
+}
+
+std::string format_json(const RunEvaluation& e) {
+  Json j;
+  j["arena"] = e.arena_name;
+  j["run"] = e.run_dir.string();
+  Json files = Json::object();
+  Json absent = Json::array();
+  for (const RunFile& f : e.files) {
+    files[f.name] = f.present;
+    if (!f.present) absent.push_back(f.name);
+  }
+  j["files"] = files;
+  j["absent"] = absent;
+  if (e.points) {
+    const ConfusionMatrix& m = e.points->confusion;
+    j["points"] = e.points->points;
+    j["points_scored"] = e.points->scored;
+    j["points_unlabelled"] = e.points->unlabelled;
+    j["accuracy"] = optional_number(m.accuracy());
+    j["mean_iou"] = optional_number(m.mean_iou());
+    Json per_class = Json::object();
+    for (std::size_t c = 1; c < kClassCount; ++c) {
+      per_class[std::string(kClassTable[c].name)] = optional_number(m.iou(static_cast<ClassId>(c)));
+    }
+    j["per_class_iou"] = per_class;
+    Json classes = Json::array();
+    Json matrix = Json::array();
+    for (std::size_t t = 0; t < kClassCount; ++t) {
+      classes.push_back(kClassTable[t].name);
+      Json row = Json::array();
+      for (std::size_t p = 0; p < kClassCount; ++p) row.push_back(m.count(static_cast<ClassId>(t), static_cast<ClassId>(p)));
+      matrix.push_back(row);
+    }
+    j["confusion"] = {{"classes", classes}, {"rows", "ground truth"}, {"columns", "prediction"}, {"matrix", matrix}};
+  }
+  j["notes"] = e.notes;
+  return j.dump(2) + "\n";
+}
+
+std::string format_table(const RunEvaluation& e) {
+  std::ostringstream out;
+  out << "arena " << e.arena_name << ", run " << e.run_dir.string() << "\n";
+  for (const RunFile& f : e.files) out << "  " << f.name << ": " << (f.present ? "present" : "absent") << "\n";
+  if (e.points) {
+    const ConfusionMatrix& m = e.points->confusion;
+    out << "\nper-point classification (" << kPointsFile << "): " << e.points->scored << " of " << e.points->points
+        << " points scored, " << e.points->unlabelled << " unlabelled\n";
+    out << "  accuracy  " << percent(m.accuracy()) << "\n";
+    out << "  mean IoU  " << percent(m.mean_iou()) << "  (terrain, wall, inclined ramp, flat ramp)\n";
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-14s %9s %9s %9s\n", "class", "IoU", "precision", "recall");
+    out << line;
+    for (std::size_t c = 1; c < kClassCount; ++c) {
+      const auto id = static_cast<ClassId>(c);
+      std::snprintf(line, sizeof line, "  %-14s %9s %9s %9s\n", std::string(kClassTable[c].name).c_str(),
+                    percent(m.iou(id)).c_str(), percent(m.precision(id)).c_str(), percent(m.recall(id)).c_str());
+      out << line;
+    }
+    out << "\n  confusion (rows: ground truth, columns: prediction)\n  " << std::string(14, ' ');
+    for (std::size_t p = 0; p < kClassCount; ++p) {
+      std::snprintf(line, sizeof line, " %13s", std::string(kClassTable[p].name).c_str());
+      out << line;
+    }
+    out << "\n";
+    for (std::size_t t = 0; t < kClassCount; ++t) {
+      std::snprintf(line, sizeof line, "  %-14s", std::string(kClassTable[t].name).c_str());
+      out << line;
+      for (std::size_t p = 0; p < kClassCount; ++p) {
+        std::snprintf(line, sizeof line, " %13llu",
+                      static_cast<unsigned long long>(m.count(static_cast<ClassId>(t), static_cast<ClassId>(p))));
+        out << line;
+      }
+      out << "\n";
+    }
+  }
+  if (!e.notes.empty()) {
+    out << "\n";
+    for (const std::string& n : e.notes) out << "note: " << n << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace sarmap::eval

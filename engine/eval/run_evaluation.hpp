@@ -1,0 +1,36 @@
+// Scores what `sarmap run` wrote in a folder against an arena's ground truth,
+// as far as the folder allows: each output that is present is scored, each
+// absent one is named. Formats the figures as a table and as JSON with plain
+// keys (accuracy, mean_iou, per_class_iou, confusion, ...).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/eval/point_evaluation.hpp"
+#include "engine/sim/arena.hpp"
+
+namespace sarmap::eval {
+
+struct RunFile {
+  std::string name;  // "semantic_points.ply", "map.sarmap", "graph.json"
+  bool present = false;
+};
+
+struct RunEvaluation {
+  std::string arena_name;
+  std::filesystem::path run_dir;
+  std::vector<RunFile> files;
+  std::optional<PointEvaluation> points;  // from semantic_points.ply
+  std::vector<std::string> notes;          // what was not scored, and why
+};
+
+// Throws sarmap::Error(Io) when run_dir is not a folder.
+RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir);
+
+std::string format_table(const RunEvaluation& evaluation);
+std::string format_json(const RunEvaluation& evaluation);
+
+}  // namespace sarmap::eval

@@ -1,0 +1,87 @@
+// Tests of `sarmap simulate`: it writes a sequence the readers accept, with
+// the same points the library simulates, and reports bad arenas clearly.
+#include <gtest/gtest.h>
+
+#include "engine/io/scan_source.hpp"
+#include "engine/sim/arena.hpp"
+#include "engine/sim/simulator.hpp"
+#include "tests/sim/run_cli.hpp"
+#include "tests/sim/test_arenas.hpp"
+
+namespace sarmap::sim {
+namespace {
+
+class SimulateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = sarmap::testing::scratch_dir(std::string("simulate_cli_") +
+                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(SimulateCli, WritesAReadableSequence) {
+  nlohmann::json j = testing::base_arena_json();
+  j["elements"] = nlohmann::json::parse(R"([{"type": "wall", "from": [3.5, 0], "to": [3.5, 4], "height": 1.2,
+                                              "thickness": 0.1}])");
+  j["trajectory"]["frames"] = 4;
+  j["sensor"]["noise"] = "kinect";
+  std::ofstream(dir_ / "arena.json") << j.dump();
+  const auto r = sarmap::testing::run_cli("simulate " + (dir_ / "arena.json").string() + " --out " + (dir_ / "seq").string() +
+                                      " --seed 5 --frames 3",
+                                  dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("frame 3/3"), std::string::npos) << r.out;
+  auto source = open_scan_sequence(dir_ / "seq");
+  ASSERT_EQ(source->size(), 3u);
+  EXPECT_EQ(source->layout(), "sarmap");
+  EXPECT_EQ(source->sensor().type, SensorType::DepthCamera);
+  EXPECT_DOUBLE_EQ(source->sensor().max_range, 6.0);
+  const Simulator sim(testing::parse_test_arena(j), {.seed = 5});
+  Scan scan;
+  for (std::size_t f = 0; f < 3; ++f) {
+    ASSERT_TRUE(source->next(scan));
+    const Scan expected = sim.simulate(f);
+    ASSERT_EQ(scan.points.size(), expected.points.size());
+    ASSERT_TRUE(scan.points.has_labels());
+    EXPECT_TRUE(scan.origin.isApprox(expected.origin, 1e-9));
+    EXPECT_TRUE(scan.pose.matrix().isApprox(expected.pose.matrix(), 1e-9));
+    for (std::size_t i = 0; i < scan.points.size(); i += 7) {
+      ASSERT_EQ(scan.points.x()[i], expected.points.x()[i]);
+      ASSERT_EQ(scan.points.z()[i], expected.points.z()[i]);
+      ASSERT_EQ(scan.points.labels()[i], expected.points.labels()[i]);
+    }
+  }
+  EXPECT_FALSE(source->next(scan));
+}
+
+TEST_F(SimulateCli, RandomArenaIsSavedAndSimulated) {
+  const auto r = sarmap::testing::run_cli("simulate --random 17 --write-arena " + (dir_ / "random.json").string() +
+                                      " --out " + (dir_ / "seq").string() + " --frames 2 --quiet",
+                                  dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const Arena a = load_arena(dir_ / "random.json");
+  EXPECT_EQ(a.name, "random-17");
+  EXPECT_EQ(open_scan_sequence(dir_ / "seq")->size(), 2u);
+}
+
+TEST_F(SimulateCli, BadArenaFailsWithItsMessage) {
+  nlohmann::json j = testing::base_arena_json();
+  j["elements"] = nlohmann::json::parse(R"([{"type": "inclined_ramp", "center": [2, 1], "length": 1.2,
+                                              "width": 1.0, "angle_deg": 95}])");
+  std::ofstream(dir_ / "bad.json") << j.dump();
+  const auto r = sarmap::testing::run_cli("simulate " + (dir_ / "bad.json").string() + " --out " + (dir_ / "seq").string(), dir_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("bad.json: elements[0] (inclined_ramp): angle_deg must be in (0, 90), got 95"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "seq" / "sequence.json"));
+  const auto none = sarmap::testing::run_cli("simulate --out " + (dir_ / "seq").string(), dir_);
+  EXPECT_NE(none.exit_code, 0);
+  EXPECT_NE(none.err.find("give ARENA.json or --random SEED"), std::string::npos) << none.err;
+}
+
+}  // namespace
+}  // namespace sarmap::sim
