@@ -1,0 +1,102 @@
+#include "engine/pipeline/mapper.hpp"
+
+#include <algorithm>
+
+#include "engine/core/error.hpp"
+#include "engine/metric/voxel_key.hpp"
+
+namespace sarmap::pipeline {
+
+namespace {
+
+metric::MetricMapSettings map_settings(const MapperConfig& c) {
+  metric::MetricMapSettings s = c.map;
+  s.resolution = c.voxel;
+  return s;
+}
+
+metric::IntegratorSettings integrator_settings(const MapperConfig& c, const SensorInfo& sensor) {
+  metric::IntegratorSettings s = c.integrator;
+  s.max_range = c.max_range > 0 ? c.max_range : sensor.max_range;
+  return s;
+}
+
+}  // namespace
+
+Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
+    : config_(config), map_(map_settings(config)), integrator_(integrator_settings(config, sensor)) {
+  if (config.classifier != "labels") {
+    throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.classifier +
+                                                "\": the only classifier available is \"labels\" (the class of "
+                                                "each point comes from the input's label property)");
+  }
+  if (!(config.semantic_points_voxel >= 0)) {
+    throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
+  }
+  semantic_points_.enable_labels();
+  semantic_points_.enable_gt_labels();
+}
+
+void Mapper::begin_scan() {
+  profile_.begin_scan();
+  row_open_ = true;
+}
+
+void Mapper::integrate(Scan& scan) {
+  if (!row_open_) profile_.begin_scan();
+  row_open_ = false;
+  {
+    const auto timer = profile_.time("preprocess");
+    profile_.add_count("preprocess", "points_in", static_cast<double>(scan.points.size()));
+    scan.points.remove_non_finite();
+    profile_.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
+  }
+  {
+    // "labels": the prediction is the input's label; keep it as ground truth too
+    // unless the input carries its own gt_label.
+    if (!scan.points.has_labels() && !scan.points.empty()) {
+      throw Error(ErrorCode::InvalidData, "scan " + std::to_string(scan.index) + " (" + scan.source +
+                                              ") has no label property, which --classifier labels needs");
+    }
+    if (!scan.points.has_gt_labels()) {
+      scan.points.enable_gt_labels();
+      std::copy(scan.points.labels().begin(), scan.points.labels().end(), scan.points.gt_labels().begin());
+    }
+  }
+  {
+    const auto timer = profile_.time("metric");
+    const metric::IntegrationStats s = integrator_.integrate(map_, scan.points, scan.origin);
+    stats_ += s;
+    profile_.add_count("metric", "points_in", static_cast<double>(s.points_in));
+    profile_.add_count("metric", "points_rejected", static_cast<double>(s.points_rejected));
+    profile_.add_count("metric", "rays", static_cast<double>(s.rays));
+    profile_.add_count("metric", "voxel_visits", static_cast<double>(s.voxel_visits));
+    profile_.add_count("metric", "voxels_updated", static_cast<double>(s.hits + s.misses));
+  }
+  keep_semantic_points(scan.points);
+}
+
+void Mapper::keep_semantic_points(const PointBuffer& points) {
+  if (config_.semantic_points_voxel <= 0) return;
+  const double inv = 1.0 / config_.semantic_points_voxel;
+  std::vector<std::uint32_t> keep;
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+    if (!metric::within_map_limits(x, y, z)) continue;
+    const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
+    if (semantic_keys_.insert(key).second) keep.push_back(i);
+  }
+  PointBuffer kept = points.select(keep);
+  PointBuffer slim;
+  slim.enable_labels();
+  slim.enable_gt_labels();
+  slim.resize(kept.size());
+  std::copy(kept.x().begin(), kept.x().end(), slim.x().begin());
+  std::copy(kept.y().begin(), kept.y().end(), slim.y().begin());
+  std::copy(kept.z().begin(), kept.z().end(), slim.z().begin());
+  std::copy(kept.labels().begin(), kept.labels().end(), slim.labels().begin());
+  std::copy(kept.gt_labels().begin(), kept.gt_labels().end(), slim.gt_labels().begin());
+  semantic_points_.append(slim);
+}
+
+}  // namespace sarmap::pipeline

@@ -1,0 +1,66 @@
+// The pipeline: the only place that knows every stage. A Mapper owns the maps
+// and runs the stages on each scan in order (preprocess, classify, metric),
+// timing each into a StageProfile.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <unordered_set>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/core/scan.hpp"
+#include "engine/core/sensor_info.hpp"
+#include "engine/core/stage_profile.hpp"
+#include "engine/metric/metric_map.hpp"
+#include "engine/metric/ray_integrator.hpp"
+
+namespace sarmap::pipeline {
+
+struct MapperConfig {
+  double voxel = 0.05;  // metric map resolution, metres
+  // Rays longer than this are cut (misses only); 0 takes the sequence's
+  // sensor.max_range, and no limit when that is 0 too.
+  double max_range = 0.0;
+  // Where point classes come from. "labels": the input's label property (the
+  // only classifier so far; the DGCNN classifier joins here).
+  std::string classifier = "labels";
+  metric::MetricMapSettings map;  // its resolution is replaced by `voxel`
+  metric::IntegratorSettings integrator;  // its max_range is replaced as above
+  // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
+  double semantic_points_voxel = 0.05;
+};
+
+class Mapper {
+ public:
+  // Throws sarmap::Error (InvalidArgument) for an unknown classifier or bad settings.
+  Mapper(const MapperConfig& config, const SensorInfo& sensor = {});
+
+  // Opens the profile row of the next scan, so a caller can time its own
+  // stages (reading) into it; integrate() opens one itself otherwise.
+  void begin_scan();
+  // Runs every stage on one scan (its points are filtered in place).
+  void integrate(Scan& scan);
+
+  const MapperConfig& config() const { return config_; }
+  double max_range() const { return integrator_.settings().max_range; }
+  const metric::MetricMap& metric_map() const { return map_; }
+  const metric::IntegrationStats& metric_stats() const { return stats_; }
+  // Classified points kept so far (label = prediction, gt_label = input's ground truth).
+  const PointBuffer& semantic_points() const { return semantic_points_; }
+  StageProfile& profile() { return profile_; }
+  const StageProfile& profile() const { return profile_; }
+
+ private:
+  void keep_semantic_points(const PointBuffer& points);
+
+  MapperConfig config_;
+  metric::MetricMap map_;
+  metric::RayIntegrator integrator_;
+  metric::IntegrationStats stats_;
+  StageProfile profile_;
+  PointBuffer semantic_points_;
+  bool row_open_ = false;
+  std::unordered_set<std::uint64_t> semantic_keys_;  // voxels already holding a kept point
+};
+
+}  // namespace sarmap::pipeline

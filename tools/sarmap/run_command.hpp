@@ -1,0 +1,33 @@
+// The run pipeline as a function, shared by `sarmap run` and `sarmap demo`.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include "engine/metric/metric_map.hpp"
+#include "engine/metric/ray_integrator.hpp"
+
+namespace sarmap::cli {
+
+struct RunOptions {
+  std::filesystem::path input;
+  std::filesystem::path out;
+  double voxel = 0.05;
+  std::string classifier = "labels";
+  int threads = 0;
+  double max_range = 0.0;
+  bool quiet = false;
+};
+
+struct RunSummary {
+  std::size_t scans = 0;
+  metric::MapCounts counts;
+  metric::IntegrationStats stats;
+  double wall_s = 0;
+};
+
+// Throws sarmap::Error for bad options or input.
+RunSummary run_pipeline(const RunOptions& options);
+
+}  // namespace sarmap::cli
