@@ -1,0 +1,66 @@
+// The pipeline's Mapper on synthetic scans: stages and counters in the
+// profile, the labels classifier, and one kept semantic point per voxel.
+#include "engine/pipeline/mapper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "engine/core/error.hpp"
+#include "engine/metric/voxel_key.hpp"
+#include "tests/metric/synthetic_room.hpp"
+
+namespace sarmap::pipeline {
+namespace {
+
+TEST(Mapper, RunsTheStagesAndProfilesThem) {
+  MapperConfig config;
+  config.voxel = 0.1;
+  config.semantic_points_voxel = 0.1;
+  SensorInfo sensor;
+  sensor.max_range = 4.0;
+  Mapper mapper(config, sensor);
+  EXPECT_DOUBLE_EQ(mapper.max_range(), 4.0);
+  testing::SyntheticRoom room;
+  std::size_t points = 0;
+  for (int f = 0; f < 3; ++f) {
+    auto r = room.frame(f, 3, 160, 120);
+    Scan scan;
+    scan.points = r.points;
+    scan.points.push_back(std::nanf(""), 0, 0);  // dropped by preprocess
+    scan.origin = r.origin;
+    points += scan.points.size();
+    mapper.integrate(scan);
+  }
+  const StageProfile& p = mapper.profile();
+  EXPECT_EQ(p.scan_count(), 3u);
+  EXPECT_DOUBLE_EQ(p.counter("preprocess", "points_in"), static_cast<double>(points));
+  EXPECT_DOUBLE_EQ(p.counter("preprocess", "points_out"), static_cast<double>(points - 3));
+  EXPECT_GT(p.counter("metric", "rays"), 0.0);
+  EXPECT_GT(p.counter("metric", "voxel_visits"), p.counter("metric", "rays"));
+  EXPECT_GT(mapper.metric_map().counts().occupied, 100u);
+  // One kept point per 0.1 m voxel, its label carried as prediction and ground truth.
+  const PointBuffer& kept = mapper.semantic_points();
+  ASSERT_GT(kept.size(), 100u);
+  ASSERT_TRUE(kept.has_gt_labels());
+  std::set<std::uint64_t> voxels;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    EXPECT_EQ(kept.labels()[i], kept.gt_labels()[i]);
+    voxels.insert(metric::pack(metric::key_of(kept.x()[i], kept.y()[i], kept.z()[i], 10.0)));
+  }
+  EXPECT_EQ(voxels.size(), kept.size());
+  EXPECT_LT(kept.size(), points / 4);
+}
+
+TEST(Mapper, RejectsUnknownClassifiersAndUnlabelledInput) {
+  MapperConfig config;
+  config.classifier = "dgcnn";
+  EXPECT_THROW(Mapper{config}, Error);
+  Mapper mapper(MapperConfig{});
+  Scan scan;
+  scan.points.push_back(1, 1, 1);
+  EXPECT_THROW(mapper.integrate(scan), Error);
+}
+
+}  // namespace
+}  // namespace sarmap::pipeline
