@@ -49,8 +49,13 @@ std::size_t chunk_count(std::size_t m) { return (m + kChunkRows - 1) / kChunkRow
 
 void gemm_bias_act(const float* x, std::size_t ldx, std::size_t m, const PackedMatrix& w, float slope, float* y,
                    std::size_t ldy) {
+  gemm_bias_act(x, ldx, m, w, w.bias(), slope, y, ldy);
+}
+
+void gemm_bias_act(const float* x, std::size_t ldx, std::size_t m, const PackedMatrix& w, const float* bias,
+                   float slope, float* y, std::size_t ldy) {
   check_level(w);
-  const detail::GemmArgs args{x, ldx, &w, slope, y, ldy};
+  const detail::GemmArgs args{x, ldx, &w, bias, slope, y, ldy};
   const detail::GemmRowsFn fn = rows_fn(w.level());
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, chunk_count(m), 1),
@@ -62,7 +67,7 @@ void gemm_bias_act(const float* x, std::size_t ldx, std::size_t m, const PackedM
 
 void gemm_column_max(const float* x, std::size_t ldx, std::size_t m, const PackedMatrix& w, float* colmax) {
   check_level(w);
-  const detail::GemmArgs args{x, ldx, &w, 1.0f, nullptr, 0};
+  const detail::GemmArgs args{x, ldx, &w, w.bias(), 1.0f, nullptr, 0};
   const detail::GemmColumnMaxFn fn = column_max_fn(w.level());
   const std::size_t chunks = chunk_count(m);
   const std::size_t width = w.panel_count() * w.panel_width();

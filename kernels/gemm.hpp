@@ -15,6 +15,11 @@ namespace sarmap::kernels {
 // The instruction set is w.level() (it must be supported by this CPU).
 void gemm_bias_act(const float* x, std::size_t ldx, std::size_t m, const PackedMatrix& w, float slope, float* y,
                    std::size_t ldy);
+// The same with a bias computed at run time instead of w's (the DGCNN head,
+// whose global-feature share is a per-block bias): bias holds
+// w.panel_count() * w.panel_width() floats, 64-byte aligned.
+void gemm_bias_act(const float* x, std::size_t ldx, std::size_t m, const PackedMatrix& w, const float* bias,
+                   float slope, float* y, std::size_t ldy);
 
 // colmax[o] = max over i < m of sum_c x[i][c] * w[o][c] (no bias: a caller
 // with a monotone activation applies bias and activation once afterwards).

@@ -12,6 +12,7 @@ struct GemmArgs {
   const float* x = nullptr;  // m x w->cols(), row stride ldx
   std::size_t ldx = 0;
   const PackedMatrix* w = nullptr;
+  const float* bias = nullptr;  // padded to the panels; w->bias() unless overridden
   float slope = 1.0f;  // epilogue max(v, slope * v) after the bias
   float* y = nullptr;  // m x w->rows(), row stride ldy
   std::size_t ldy = 0;

@@ -25,8 +25,8 @@ void gemm_rows_impl(const detail::GemmArgs& g, std::size_t begin, std::size_t en
     const float* panel = w.panel(p);
     const std::size_t col0 = p * 2 * L;
     const std::size_t valid = min_size(2 * L, w.rows() - col0);
-    const B bias0 = B::load_aligned(w.bias() + col0);
-    const B bias1 = B::load_aligned(w.bias() + col0 + L);
+    const B bias0 = B::load_aligned(g.bias + col0);
+    const B bias1 = B::load_aligned(g.bias + col0 + L);
     for (std::size_t row = begin; row < end; row += MR) {
       const int rows = static_cast<int>(min_size(MR, end - row));
       with_rows<MR>(rows, [&](auto rc) {

@@ -39,8 +39,9 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
          KnnWorkspace& workspace, std::uint32_t* idx) {
   check(count, dim, k);
   if (!simd_level_supported(level)) throw std::invalid_argument("knn: instruction set not supported by this CPU");
-  pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms);
-  const detail::KnnArgs args{points, stride, count, dim, k, workspace.panels.data(), workspace.norms.data(), idx};
+  pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
+  const detail::KnnArgs args{points,      stride, count, dim, k, workspace.panels.data(), workspace.norms.data(),
+                             workspace.centre.data(), idx};
   const detail::KnnRowsFn fn = rows_fn(level);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, (count + kChunkRows - 1) / kChunkRows, 1),

@@ -17,6 +17,7 @@ namespace sarmap::kernels {
 struct KnnWorkspace {
   AlignedBuffer<float> panels;
   AlignedBuffer<float> norms;
+  AlignedBuffer<float> centre;
 };
 
 // idx[i * k + j] = j-th nearest of point i (count x k). points: count x dim
@@ -26,7 +27,8 @@ struct KnnWorkspace {
 void knn(const float* points, std::size_t stride, std::size_t count, std::size_t dim, std::size_t k, SimdLevel level,
          KnnWorkspace& workspace, std::uint32_t* idx);
 
-// Scalar reference: exact differences in double, stable by index.
+// Scalar reference: exact differences in double, ties by index. The kernel
+// gives the same lists unless float rounding moves a point across kKnnExtra ranks.
 void knn_reference(const float* points, std::size_t stride, std::size_t count, std::size_t dim, std::size_t k,
                    std::uint32_t* idx);
 

@@ -15,6 +15,7 @@ struct KnnArgs {
   std::size_t k = 0;
   const float* panels = nullptr;  // the same points packed by pack_points()
   const float* norms = nullptr;   // their squared norms, +inf padded
+  const float* centre = nullptr;  // the mean pack_points() subtracted
   std::uint32_t* idx = nullptr;   // count x k
 };
 

@@ -3,7 +3,10 @@
 // |b|^2 - 2 a.b (|a|^2 is the same for a whole row), computed a register tile
 // at a time like a GEMM, so the N x N matrix never exists; each row keeps its
 // k best in a small sorted list and a vector compare against the current k-th
-// distance skips almost every tile without touching the list.
+// distance skips almost every tile without touching the list. The list keeps
+// kKnnExtra more candidates than k, and the final k are chosen among them by
+// exact distances (double, the reference's arithmetic), so the neighbours do
+// not depend on the instruction set's rounding.
 #pragma once
 
 #include <cstddef>
@@ -43,8 +46,11 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   const std::size_t panel_count = (q.count + NR - 1) / NR;
 
   alignas(64) float a_scaled[MR * kKnnMaxDim];
-  float best_d[MR][kKnnMaxK];
-  std::uint32_t best_i[MR][kKnnMaxK];
+  constexpr std::size_t kSlots = kKnnMaxK + kKnnExtra;
+  const std::size_t keep = k + kKnnExtra < q.count ? k + kKnnExtra : q.count;
+  float best_d[MR][kSlots];
+  std::uint32_t best_i[MR][kSlots];
+  double exact[kSlots];
   std::size_t found[MR];
   float threshold[MR];
 
@@ -54,7 +60,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       constexpr int R = decltype(rc)::value;
       for (int r = 0; r < R; ++r) {
         const float* src = q.points + (row + r) * q.stride;
-        for (std::size_t c = 0; c < dim; ++c) a_scaled[r * dim + c] = -2.0f * src[c];
+        for (std::size_t c = 0; c < dim; ++c) a_scaled[r * dim + c] = -2.0f * (src[c] - q.centre[c]);
         found[r] = 0;
         threshold[r] = kInf;
       }
@@ -75,13 +81,34 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           for (std::size_t l = 0; l < NR; ++l) {
             const std::size_t col = p * NR + l;
             if (tmp[l] < threshold[r] && col < q.count) {
-              insert_sorted(best_d[r], best_i[r], found[r], k, tmp[l], static_cast<std::uint32_t>(col));
-              if (found[r] == k) threshold[r] = best_d[r][k - 1];
+              insert_sorted(best_d[r], best_i[r], found[r], keep, tmp[l], static_cast<std::uint32_t>(col));
+              if (found[r] == keep) threshold[r] = best_d[r][keep - 1];
             }
           }
         }
       }
       for (int r = 0; r < R; ++r) {
+        // Re-rank the candidates by exact distance, ties by index.
+        const float* self = q.points + (row + r) * q.stride;
+        std::size_t n = 0;
+        for (std::size_t c = 0; c < found[r]; ++c) {
+          const std::uint32_t id = best_i[r][c];
+          const float* other = q.points + static_cast<std::size_t>(id) * q.stride;
+          double d = 0.0;
+          for (std::size_t j = 0; j < dim; ++j) {
+            const double diff = static_cast<double>(self[j]) - static_cast<double>(other[j]);
+            d += diff * diff;
+          }
+          std::size_t pos = n++;
+          while (pos > 0 && (exact[pos - 1] > d || (exact[pos - 1] == d && best_i[r][pos - 1] > id))) {
+            exact[pos] = exact[pos - 1];
+            best_i[r][pos] = best_i[r][pos - 1];
+            --pos;
+          }
+          exact[pos] = d;
+          best_i[r][pos] = id;
+        }
+        if (found[r] > k) found[r] = k;
         std::uint32_t* out = q.idx + (row + r) * k;
         // Fewer than k points (or non-finite input): repeat the nearest, which
         // leaves every max over the neighbourhood unchanged.

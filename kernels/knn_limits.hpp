@@ -8,5 +8,10 @@ namespace sarmap::kernels {
 
 inline constexpr std::size_t kKnnMaxK = 64;
 inline constexpr std::size_t kKnnMaxDim = 256;
+// Candidates kept beyond k by the fast |b|^2 - 2a.b ranking, whose float
+// rounding (about 1e-7 of |a|^2) can swap near-equal neighbours; the final k
+// are chosen among them by exact differences in double, so the result is the
+// exact k nearest whenever the rounding moves no point across 8 ranks.
+inline constexpr std::size_t kKnnExtra = 8;
 
 }  // namespace sarmap::kernels

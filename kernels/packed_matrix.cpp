@@ -24,7 +24,13 @@ PackedMatrix::PackedMatrix(const float* weights, const float* bias, std::size_t 
 }
 
 void pack_points(const float* points, std::size_t stride, std::size_t count, std::size_t dim, SimdLevel level,
-                 AlignedBuffer<float>& panels, AlignedBuffer<float>& norms) {
+                 AlignedBuffer<float>& panels, AlignedBuffer<float>& norms, AlignedBuffer<float>& centre) {
+  centre.resize(dim);
+  for (std::size_t c = 0; c < dim; ++c) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < count; ++i) sum += points[i * stride + c];
+    centre[c] = count > 0 ? static_cast<float>(sum / static_cast<double>(count)) : 0.0f;
+  }
   const std::size_t nr = static_cast<std::size_t>(panel_width(level));
   const std::size_t panel_count = (count + nr - 1) / nr;
   panels.resize(panel_count * nr * dim);
@@ -37,8 +43,9 @@ void pack_points(const float* points, std::size_t stride, std::size_t count, std
         const float* src = points + point * stride;
         float norm = 0.0f;
         for (std::size_t c = 0; c < dim; ++c) {
-          dst[c * nr + r] = src[c];
-          norm += src[c] * src[c];
+          const float v = src[c] - centre[c];
+          dst[c * nr + r] = v;
+          norm += v * v;
         }
         norms[point] = norm;
       } else {

@@ -35,9 +35,11 @@ class PackedMatrix {
 };
 
 // Packs `count` points of `dim` floats (row stride `stride`) the same way,
-// with each point a "row", and writes their squared norms padded with +inf:
-// the kNN kernel's column side. Buffers grow as needed.
+// with each point a "row", after subtracting their mean (written to centre:
+// distances do not change, and |b|^2 - 2a.b loses less to rounding), and
+// writes their squared norms padded with +inf: the kNN kernel's column side.
+// Buffers grow as needed.
 void pack_points(const float* points, std::size_t stride, std::size_t count, std::size_t dim, SimdLevel level,
-                 AlignedBuffer<float>& panels, AlignedBuffer<float>& norms);
+                 AlignedBuffer<float>& panels, AlignedBuffer<float>& norms, AlignedBuffer<float>& centre);
 
 }  // namespace sarmap::kernels

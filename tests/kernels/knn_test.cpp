@@ -56,6 +56,7 @@ TEST(Knn, RandomPointsMatchReference) {
       std::vector<std::uint32_t> got(n * k);
       knn(p.data(), dim, n, dim, k, level, ws, got.data());
       expect_equivalent(p, n, dim, k, got, ref, 1e-4 * static_cast<double>(dim));
+      EXPECT_EQ(got, ref) << "exact re-ranking gives the reference's lists, dim " << dim;
       for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(got[i * k], i) << "a point is its own nearest neighbour";
     }
   }

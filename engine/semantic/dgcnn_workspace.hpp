@@ -1,0 +1,32 @@
+// The buffers one DGCNN forward pass works in, kept between blocks so that
+// after the first block of a given size no memory is allocated.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "kernels/aligned_buffer.hpp"
+#include "kernels/knn.hpp"
+
+namespace sarmap {
+
+struct DgcnnWorkspace {
+  kernels::KnnWorkspace knn;
+  kernels::AlignedBuffer<std::uint32_t> neighbours;  // n x k
+  kernels::AlignedBuffer<float> edge_terms;         // n x 2E: [a | b] of an EdgeConv
+  kernels::AlignedBuffer<float> local;              // n x (E1 + E2 + E3): [x1 | x2 | x3]
+  kernels::AlignedBuffer<float> global;             // emb
+  kernels::AlignedBuffer<float> head_bias;          // conv7's bias plus its global share
+  kernels::AlignedBuffer<float> head1;              // n x H1
+  kernels::AlignedBuffer<float> head2;              // n x H2
+};
+
+// Wall-clock seconds of each stage of the last forward pass (benchmarks).
+struct DgcnnStageTimes {
+  double knn[3] = {0, 0, 0};
+  double edge_conv[3] = {0, 0, 0};
+  double global = 0;  // conv6 + max over points
+  double head = 0;    // conv7, conv8, conv9
+};
+
+}  // namespace sarmap
