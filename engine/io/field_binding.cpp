@@ -227,6 +227,21 @@ std::optional<DecodeFailure> decode_binary_fields(const char* data, std::size_t 
   return std::nullopt;
 }
 
+std::size_t drop_non_finite(PointBuffer& points) {
+  const float* x = points.x().data();
+  const float* y = points.y().data();
+  const float* z = points.z().data();
+  // An IEEE float is NaN or infinite exactly when all its exponent bits are set.
+  constexpr std::uint32_t kExponent = 0x7f800000u;
+  std::uint32_t non_finite = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    non_finite |= static_cast<std::uint32_t>((std::bit_cast<std::uint32_t>(x[i]) & kExponent) == kExponent) |
+                  static_cast<std::uint32_t>((std::bit_cast<std::uint32_t>(y[i]) & kExponent) == kExponent) |
+                  static_cast<std::uint32_t>((std::bit_cast<std::uint32_t>(z[i]) & kExponent) == kExponent);
+  }
+  return non_finite != 0 ? points.remove_non_finite() : 0;
+}
+
 bool store_text_value(std::string_view token, const FieldBinding& b, PointBuffer& points, std::size_t point,
                       std::string& what_failed) {
   const Target t = resolve(points, b);

@@ -67,6 +67,10 @@ std::optional<DecodeFailure> decode_binary_fields(const char* data, std::size_t 
                                                   std::span<const FieldBinding> bindings, PointBuffer& points,
                                                   std::size_t first);
 
+// Drops points whose x, y or z is NaN or infinite and returns how many. A
+// branch-free scan first, so the common all-finite cloud costs one pass.
+std::size_t drop_non_finite(PointBuffer& points);
+
 // A point's values as text tokens, parsed for one binding and stored at index
 // point. Returns false when the token is not a number of the binding's type or
 // does not fit (a label outside 0..255); what_failed then says what was expected.

@@ -241,7 +241,7 @@ PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info
     case PcdEncoding::Binary: read_binary(bytes, header, layout, points, file); break;
     case PcdEncoding::BinaryCompressed: read_binary_compressed(bytes, header, layout, points, file); break;
   }
-  const std::size_t dropped = points.remove_non_finite();
+  const std::size_t dropped = drop_non_finite(points);
   if (info != nullptr) {
     info->format = PointCloudFormat::Pcd;
     info->encoding = std::string(to_string(header.encoding));

@@ -342,7 +342,7 @@ PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info
     }
   }
 
-  const std::size_t dropped = points.remove_non_finite();
+  const std::size_t dropped = drop_non_finite(points);
   if (info != nullptr) {
     info->format = PointCloudFormat::Ply;
     info->encoding = std::string(to_string(header.encoding));
