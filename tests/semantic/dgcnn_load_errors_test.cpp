@@ -1,0 +1,200 @@
+// Tests the DGCNN loader's errors (engine/semantic/dgcnn_weights.hpp,
+// engine/io/safetensors.hpp, engine/io/npy.hpp): a truncated file, an offset
+// past the end, a wrong dtype, a missing tensor, shapes that do not chain,
+// bad metadata, malformed .npy files. Each message must name the culprit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/core/error.hpp"
+#include "engine/io/npy.hpp"
+#include "engine/io/safetensors.hpp"
+#include "engine/semantic/dgcnn_model.hpp"
+
+namespace sarmap {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kModel = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
+
+std::vector<std::uint8_t> model_bytes() {
+  std::ifstream in(kModel, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Error message of loading the model from these bytes ("" when it loads).
+std::string load_error(std::vector<std::uint8_t> bytes) {
+  try {
+    const SafetensorsFile file = SafetensorsFile::parse(std::move(bytes), "m.safetensors");
+    load_dgcnn_weights(file);
+    parse_dgcnn_metadata(file.metadata(), file.source());
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The model file with its JSON header rebuilt from `header` (data unchanged).
+std::vector<std::uint8_t> with_header_json(const nlohmann::json& header) {
+  const auto bytes = model_bytes();
+  std::uint64_t len = 0;
+  std::memcpy(&len, bytes.data(), 8);
+  const std::string text = header.dump();
+  std::vector<std::uint8_t> out;
+  const std::uint64_t new_len = text.size();
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<std::uint8_t>(new_len >> (8 * i)));
+  out.insert(out.end(), text.begin(), text.end());
+  out.insert(out.end(), bytes.begin() + 8 + static_cast<std::ptrdiff_t>(len), bytes.end());
+  return out;
+}
+
+nlohmann::json model_header() {
+  const auto bytes = model_bytes();
+  std::uint64_t len = 0;
+  std::memcpy(&len, bytes.data(), 8);
+  return nlohmann::json::parse(bytes.begin() + 8, bytes.begin() + 8 + static_cast<std::ptrdiff_t>(len));
+}
+
+// The model file with one textual replacement in its JSON header.
+std::vector<std::uint8_t> with_header(const std::string& from, const std::string& to) {
+  std::string text = model_header().dump();
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return with_header_json(nlohmann::json::parse(text));
+}
+
+TEST(DgcnnLoad, FixtureLoads) { EXPECT_EQ(load_error(model_bytes()), ""); }
+
+TEST(DgcnnLoad, TruncatedFileNamesATensorPastTheEnd) {
+  auto bytes = model_bytes();
+  bytes.resize(bytes.size() - 100);
+  const std::string e = load_error(bytes);
+  EXPECT_NE(e.find("run past the end"), std::string::npos) << e;
+  EXPECT_NE(e.find("tensor '"), std::string::npos) << e;
+  EXPECT_NE(load_error({1, 2, 3}).find("truncated"), std::string::npos);
+  auto header_cut = model_bytes();
+  header_cut.resize(40);
+  EXPECT_NE(load_error(header_cut).find("truncated"), std::string::npos);
+}
+
+TEST(DgcnnLoad, WrongDtypeNamesTheTensor) {
+  // Same byte count, other dtype: conv2's weight as I32.
+  nlohmann::json h = model_header();
+  h["conv2.0.weight"]["dtype"] = "I32";
+  const std::string e = load_error(with_header_json(h));
+  EXPECT_NE(e.find("conv2.0.weight"), std::string::npos) << e;
+  EXPECT_NE(e.find("I32"), std::string::npos) << e;
+}
+
+TEST(DgcnnLoad, MissingTensorIsNamed) {
+  const std::string e = load_error(with_header("\"conv8.1.running_var\"", "\"conv8.1.running_varX\""));
+  EXPECT_NE(e.find("conv8.1.running_var"), std::string::npos) << e;
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+}
+
+TEST(DgcnnLoad, ShapeThatDoesNotChainIsNamed) {
+  // conv3 declared with 64 inputs (and half its bytes) where 2 x 64 chain in.
+  nlohmann::json h = model_header();
+  auto& t = h["conv3.0.weight"];
+  t["shape"] = {64, 64, 1, 1};
+  t["data_offsets"][1] = t["data_offsets"][0].get<std::size_t>() + 64 * 64 * 4;
+  const std::string e = load_error(with_header_json(h));
+  EXPECT_NE(e.find("conv3.0.weight"), std::string::npos) << e;
+  EXPECT_NE(e.find("do not chain"), std::string::npos) << e;
+}
+
+TEST(DgcnnLoad, ByteCountThatDoesNotFitTheShapeIsNamed) {
+  nlohmann::json h = model_header();
+  h["conv9.weight"]["shape"] = {5, 32, 1};
+  const std::string e = load_error(with_header_json(h));
+  EXPECT_NE(e.find("conv9.weight"), std::string::npos) << e;
+}
+
+TEST(DgcnnLoad, BadMetadataIsNamed) {
+  const std::string e = load_error(with_header("\"sarmap.k\":\"20\"", "\"sarmap.k\":\"zz\""));
+  EXPECT_NE(e.find("sarmap.k"), std::string::npos) << e;
+  const std::string c = load_error(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp,lava\""));
+  EXPECT_NE(c.find("lava"), std::string::npos) << c;
+}
+
+TEST(DgcnnLoad, ModulePrefixAndBnAliasesAreAccepted) {
+  // DataParallel's "module." on every tensor, and conv1's BN only under its
+  // bn1 alias (the conv1.1.* entries renamed away).
+  const nlohmann::json h = model_header();
+  nlohmann::json renamed = nlohmann::json::object();
+  for (const auto& [key, value] : h.items()) {
+    std::string name = key;
+    if (name.rfind("conv1.1.", 0) == 0) name = "unused." + name;
+    renamed[key == "__metadata__" ? key : "module." + name] = value;
+  }
+  EXPECT_EQ(load_error(with_header_json(renamed)), "");
+  EXPECT_NE(h.find("bn1.weight"), h.end()) << "the fixture carries the reference's bnN duplicates";
+}
+
+TEST(DgcnnLoad, MetadataClassCountMustMatchTheClassifier) {
+  const SafetensorsFile file = SafetensorsFile::parse(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp\""), "m");
+  EXPECT_THROW(DgcnnModel(load_dgcnn_weights(file), parse_dgcnn_metadata(file.metadata(), "m"),
+                          kernels::SimdLevel::Sse42),
+               Error);
+}
+
+class NpyErrors : public ::testing::Test {
+ protected:
+  fs::path dir = fs::temp_directory_path() / ("sarmap_npy_" + std::to_string(::getpid()));
+  void SetUp() override { fs::create_directories(dir); }
+  void TearDown() override { fs::remove_all(dir); }
+  fs::path write(const std::string& name, const std::string& header, std::size_t data_bytes) {
+    std::string h = header;
+    while ((10 + h.size() + 1) % 64 != 0) h += ' ';
+    h += '\n';
+    std::ofstream out(dir / name, std::ios::binary);
+    out.write("\x93NUMPY\x01\x00", 8);
+    const std::uint16_t len = static_cast<std::uint16_t>(h.size());
+    out.write(reinterpret_cast<const char*>(&len), 2);
+    out << h << std::string(data_bytes, '\0');
+    return dir / name;
+  }
+  std::string error(const fs::path& p) {
+    try {
+      read_npy_f32(p);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST_F(NpyErrors, RoundTripAndEachCheck) {
+  const std::vector<float> v{1, 2, 3, 4, 5, 6};
+  const std::size_t shape[2] = {3, 2};
+  write_npy_f32(dir / "ok.npy", shape, v);
+  const NpyArray a = read_npy_f32(dir / "ok.npy");
+  EXPECT_EQ(a.shape, (std::vector<std::size_t>{3, 2}));
+  EXPECT_EQ(a.values, v);
+
+  EXPECT_EQ(error(write("good.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }", 24)), "");
+  EXPECT_NE(error(write("f8.npy", "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }", 48)).find("<f8"),
+            std::string::npos);
+  EXPECT_NE(error(write("fo.npy", "{'descr': '<f4', 'fortran_order': True, 'shape': (2, 3), }", 24)).find("fortran"),
+            std::string::npos);
+  EXPECT_NE(error(write("short.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }", 20)).find("24 bytes"),
+            std::string::npos);
+  EXPECT_NE(error(write("noshape.npy", "{'descr': '<f4', 'fortran_order': False, }", 0)).find("shape"),
+            std::string::npos);
+  std::ofstream(dir / "magic.npy") << "NUMPY not really";
+  EXPECT_NE(error(dir / "magic.npy").find("magic"), std::string::npos);
+  std::ofstream v9(dir / "v9.npy", std::ios::binary);
+  v9.write("\x93NUMPY\x09\x00\x00\x00\x00\x00", 12);
+  v9.close();
+  EXPECT_NE(error(dir / "v9.npy").find("version"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sarmap
