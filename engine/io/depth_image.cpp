@@ -3,13 +3,13 @@
 // are all trivial, and the C++ side checks a status afterwards.
 #include "engine/io/depth_image.hpp"
 
+#include <png.h>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <png.h>
 #include <string>
 
 #include "engine/core/error.hpp"
@@ -38,8 +38,9 @@ void on_png_warning(png_structp, png_const_charp) {}
 void read_from_memory(png_structp png, png_bytep out, png_size_t length) {
   auto* src = static_cast<PngSource*>(png_get_io_ptr(png));
   if (length > src->size - src->offset) {
-    std::snprintf(src->message, sizeof src->message, "file is truncated (ends at byte %zu, %zu more bytes expected)",
-                  src->size, static_cast<std::size_t>(length - (src->size - src->offset)));
+    std::snprintf(src->message, sizeof src->message,
+                  "file is truncated (ends at byte %zu, %zu more bytes expected)", src->size,
+                  static_cast<std::size_t>(length - (src->size - src->offset)));
     png_longjmp(png, 1);
   }
   std::memcpy(out, src->data + src->offset, length);
@@ -70,12 +71,18 @@ bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
 
 std::string color_type_name(int color_type) {
   switch (color_type) {
-    case PNG_COLOR_TYPE_GRAY: return "grayscale";
-    case PNG_COLOR_TYPE_GRAY_ALPHA: return "grayscale + alpha";
-    case PNG_COLOR_TYPE_RGB: return "RGB colour";
-    case PNG_COLOR_TYPE_RGB_ALPHA: return "RGBA colour";
-    case PNG_COLOR_TYPE_PALETTE: return "palette colour";
-    default: return "colour type " + std::to_string(color_type);
+    case PNG_COLOR_TYPE_GRAY:
+      return "grayscale";
+    case PNG_COLOR_TYPE_GRAY_ALPHA:
+      return "grayscale + alpha";
+    case PNG_COLOR_TYPE_RGB:
+      return "RGB colour";
+    case PNG_COLOR_TYPE_RGB_ALPHA:
+      return "RGBA colour";
+    case PNG_COLOR_TYPE_PALETTE:
+      return "palette colour";
+    default:
+      return "colour type " + std::to_string(color_type);
   }
 }
 
@@ -111,7 +118,8 @@ DepthImage read_depth_png(const std::filesystem::path& path) {
   }
   if (h.color_type != PNG_COLOR_TYPE_GRAY) {
     throw Error(ErrorCode::Unsupported, file + ": a depth image must be a 16-bit grayscale PNG, got " +
-                                            std::to_string(h.bit_depth) + "-bit " + color_type_name(h.color_type));
+                                            std::to_string(h.bit_depth) + "-bit " +
+                                            color_type_name(h.color_type));
   }
   if (h.bit_depth != 16) {
     throw Error(ErrorCode::Unsupported, file + ": a depth image must be a 16-bit grayscale PNG, got " +

@@ -16,7 +16,8 @@ struct DepthImage {
   std::vector<std::uint16_t> pixels;
 
   std::uint16_t at(int u, int v) const {
-    return pixels[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u)];
+    return pixels[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) +
+                  static_cast<std::size_t>(u)];
   }
 };
 

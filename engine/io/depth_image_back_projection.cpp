@@ -9,9 +9,9 @@ namespace sarmap {
 
 PointBuffer back_project(const DepthImage& image, const PinholeIntrinsics& k, const DepthDecoding& decoding) {
   if ((k.width != 0 && k.width != image.width) || (k.height != 0 && k.height != image.height)) {
-    throw Error(ErrorCode::InvalidData,
-                "depth image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                    " but the intrinsics are for " + std::to_string(k.width) + "x" + std::to_string(k.height));
+    throw Error(ErrorCode::InvalidData, "depth image is " + std::to_string(image.width) + "x" +
+                                            std::to_string(image.height) + " but the intrinsics are for " +
+                                            std::to_string(k.width) + "x" + std::to_string(k.height));
   }
   if (!(decoding.units_per_metre > 0)) {
     throw Error(ErrorCode::InvalidArgument, "depth decoding: units_per_metre must be positive");

@@ -42,8 +42,8 @@ PinholeIntrinsics from_json(const std::string& text, const std::string& file) {
   static const std::set<std::string> known{"fx", "fy", "cx", "cy", "width", "height"};
   for (const auto& [key, value] : j.items()) {
     if (!known.contains(key)) {
-      throw Error(ErrorCode::Parse,
-                  file + ": unknown key \"" + key + "\" (expected fx, fy, cx, cy and optionally width, height)");
+      throw Error(ErrorCode::Parse, file + ": unknown key \"" + key +
+                                        "\" (expected fx, fy, cx, cy and optionally width, height)");
     }
   }
   PinholeIntrinsics k;
@@ -65,9 +65,8 @@ PinholeIntrinsics from_matrix_text(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::vector<TextRow> rows = read_text_rows(path);
   if (rows.size() != 3) {
-    throw Error(ErrorCode::Parse,
-                file + ": expected a 3x3 camera matrix (3 lines of 3 numbers), got " + std::to_string(rows.size()) +
-                    " lines");
+    throw Error(ErrorCode::Parse, file + ": expected a 3x3 camera matrix (3 lines of 3 numbers), got " +
+                                      std::to_string(rows.size()) + " lines");
   }
   double m[3][3];
   for (int r = 0; r < 3; ++r) {
@@ -78,8 +77,8 @@ PinholeIntrinsics from_matrix_text(const std::filesystem::path& path) {
     }
   }
   if (m[0][1] != 0.0) {
-    throw Error(ErrorCode::Unsupported, at_line(file, rows[0].line, "skew K[0][1] must be 0, got " +
-                                                                        std::to_string(m[0][1])));
+    throw Error(ErrorCode::Unsupported,
+                at_line(file, rows[0].line, "skew K[0][1] must be 0, got " + std::to_string(m[0][1])));
   }
   if (m[1][0] != 0.0 || m[2][0] != 0.0 || m[2][1] != 0.0 || m[2][2] != 1.0) {
     throw Error(ErrorCode::InvalidData,
@@ -111,7 +110,8 @@ void validate_intrinsics(const PinholeIntrinsics& k, std::string_view what) {
 
 PinholeIntrinsics read_intrinsics_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open intrinsics file: " + std::strerror(errno));
+  if (!in)
+    throw Error(ErrorCode::Io, path.string() + ": cannot open intrinsics file: " + std::strerror(errno));
   const std::string text{std::istreambuf_iterator<char>(in), {}};
   std::size_t first = 0;
   while (first < text.size() && std::isspace(static_cast<unsigned char>(text[first]))) ++first;
@@ -128,7 +128,8 @@ PinholeIntrinsics find_intrinsics(const std::optional<std::filesystem::path>& op
   throw Error(ErrorCode::InvalidArgument,
               folder_file.parent_path().string() + ": the " + std::string(layout) +
                   " has no camera intrinsics: pass an intrinsics file (ScanSequenceOptions::intrinsics_file, "
-                  "CLI --intrinsics FILE) or put " + folder_file.filename().string() + " in the folder");
+                  "CLI --intrinsics FILE) or put " +
+                  folder_file.filename().string() + " in the folder");
 }
 
 }  // namespace sarmap

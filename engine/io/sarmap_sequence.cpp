@@ -72,8 +72,8 @@ std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& fo
   for (std::size_t i = 0; i < manifest.frames.size(); ++i) {
     const std::filesystem::path file = folder / manifest.frames[i].file;
     if (!std::filesystem::is_regular_file(file)) {
-      throw Error(ErrorCode::Io, json.string() + ": frames[" + std::to_string(i) + "].file: " + file.string() +
-                                     " does not exist");
+      throw Error(ErrorCode::Io, json.string() + ": frames[" + std::to_string(i) +
+                                     "].file: " + file.string() + " does not exist");
     }
   }
   return std::make_unique<SarmapSequence>(folder, std::move(manifest));

@@ -30,7 +30,8 @@ struct Context {
     throw Error(code, text + message);
   }
 
-  void only_keys(const Json& object, std::string_view field, std::initializer_list<std::string_view> keys) const {
+  void only_keys(const Json& object, std::string_view field,
+                 std::initializer_list<std::string_view> keys) const {
     for (const auto& [key, value] : object.items()) {
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
         std::string known;
@@ -66,7 +67,8 @@ struct Context {
     }
     std::vector<double> out;
     out.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) out.push_back(number(value[i], field + "[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < count; ++i)
+      out.push_back(number(value[i], field + "[" + std::to_string(i) + "]"));
     return out;
   }
 
@@ -79,7 +81,8 @@ struct Context {
 };
 
 SensorInfo parse_sensor(const Json& j, const Context& ctx) {
-  if (!j.is_object()) ctx.fail(ErrorCode::Parse, "sensor", std::string("expected an object, got ") + j.type_name());
+  if (!j.is_object())
+    ctx.fail(ErrorCode::Parse, "sensor", std::string("expected an object, got ") + j.type_name());
   ctx.only_keys(j, "sensor", {"type", "max_range", "min_range", "width", "height", "fx", "fy", "cx", "cy"});
   SensorInfo sensor;
   const Json& type = ctx.require(j, "sensor", "type");
@@ -130,12 +133,14 @@ bool has_point_cloud_extension(const std::string& file) {
 
 SequenceManifestFrame parse_frame(const Json& j, std::size_t index, const Context& ctx) {
   const std::string field = "frames[" + std::to_string(index) + "]";
-  if (!j.is_object()) ctx.fail(ErrorCode::Parse, field, std::string("expected an object, got ") + j.type_name());
+  if (!j.is_object())
+    ctx.fail(ErrorCode::Parse, field, std::string("expected an object, got ") + j.type_name());
   ctx.only_keys(j, field, {"file", "pose", "origin", "timestamp"});
   SequenceManifestFrame frame;
   const Json& file = ctx.require(j, field, "file");
   if (!file.is_string() || file.get<std::string>().empty()) {
-    ctx.fail(ErrorCode::Parse, field + ".file", std::string("expected a non-empty file name, got ") + file.dump());
+    ctx.fail(ErrorCode::Parse, field + ".file",
+             std::string("expected a non-empty file name, got ") + file.dump());
   }
   frame.file = file.get<std::string>();
   if (!has_point_cloud_extension(frame.file)) {
@@ -164,7 +169,8 @@ SequenceManifest parse_sequence_manifest(std::string_view json_text, const std::
   } catch (const Json::exception& e) {  // parse_error, or out_of_range for 1e999
     ctx.fail(ErrorCode::Parse, "", std::string("invalid JSON: ") + e.what());
   }
-  if (!j.is_object()) ctx.fail(ErrorCode::Parse, "", std::string("expected a JSON object, got ") + j.type_name());
+  if (!j.is_object())
+    ctx.fail(ErrorCode::Parse, "", std::string("expected a JSON object, got ") + j.type_name());
   ctx.only_keys(j, "", {"version", "points_frame", "sensor", "frames"});
   const Json& version = ctx.require(j, "", "version");
   if (!version.is_number_integer() || version.get<long long>() != kSequenceFormatVersion) {
@@ -179,24 +185,27 @@ SequenceManifest parse_sequence_manifest(std::string_view json_text, const std::
   } else if (points_frame == "sensor") {
     manifest.points_frame = PointsFrame::Sensor;
   } else {
-    ctx.fail(ErrorCode::Parse, "points_frame", "expected \"world\" or \"sensor\", got " + points_frame.dump());
+    ctx.fail(ErrorCode::Parse, "points_frame",
+             "expected \"world\" or \"sensor\", got " + points_frame.dump());
   }
   if (j.contains("sensor")) manifest.sensor = parse_sensor(j["sensor"], ctx);
   const Json& frames = ctx.require(j, "", "frames");
-  if (!frames.is_array()) ctx.fail(ErrorCode::Parse, "frames", std::string("expected an array, got ") + frames.type_name());
+  if (!frames.is_array())
+    ctx.fail(ErrorCode::Parse, "frames", std::string("expected an array, got ") + frames.type_name());
   manifest.frames.reserve(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     manifest.frames.push_back(parse_frame(frames[i], i, ctx));
     // A missing timestamp would read as 0 and put the frame before its predecessors.
-    if (i > 0 && frames[i].is_object() && frames[i].contains("timestamp") != frames[0].contains("timestamp")) {
+    if (i > 0 && frames[i].is_object() &&
+        frames[i].contains("timestamp") != frames[0].contains("timestamp")) {
       ctx.fail(ErrorCode::Parse, "frames[" + std::to_string(i) + "]",
                "timestamp given for some frames but not others (give every frame one, or none)");
     }
     if (i > 0 && manifest.frames[i].timestamp < manifest.frames[i - 1].timestamp) {
       std::ostringstream msg;
       msg.precision(17);
-      msg << manifest.frames[i].timestamp << " is earlier than frames[" << i - 1
-          << "].timestamp " << manifest.frames[i - 1].timestamp << " (timestamps must not decrease)";
+      msg << manifest.frames[i].timestamp << " is earlier than frames[" << i - 1 << "].timestamp "
+          << manifest.frames[i - 1].timestamp << " (timestamps must not decrease)";
       ctx.fail(ErrorCode::InvalidData, "frames[" + std::to_string(i) + "].timestamp", msg.str());
     }
   }

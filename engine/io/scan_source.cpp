@@ -41,9 +41,10 @@ std::unique_ptr<ScanSource> open_scan_sequence(const std::filesystem::path& path
   if (std::filesystem::exists(path / "depth.txt")) return open_tum_sequence(path, options);
   if (has_seven_scenes_frame(path)) return open_seven_scenes_sequence(path, options);
   throw Error(ErrorCode::InvalidArgument,
-              path.string() + ": not a recognised scan sequence: expected sequence.json (sarmap), "
-                              "depth.txt + groundtruth.txt (TUM RGB-D) or frame-NNNNNN.depth.png + "
-                              "frame-NNNNNN.pose.txt (7-Scenes)");
+              path.string() +
+                  ": not a recognised scan sequence: expected sequence.json (sarmap), "
+                  "depth.txt + groundtruth.txt (TUM RGB-D) or frame-NNNNNN.depth.png + "
+                  "frame-NNNNNN.pose.txt (7-Scenes)");
 }
 
 }  // namespace sarmap

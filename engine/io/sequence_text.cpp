@@ -48,29 +48,32 @@ std::vector<TextRow> read_text_rows(const std::filesystem::path& path) {
   return rows;
 }
 
-double parse_number(std::string_view token, std::string_view file, std::size_t line,
-                    std::string_view field) {
+double parse_number(std::string_view token, std::string_view file, std::size_t line, std::string_view field) {
   // from_chars rejects a leading '+', which some writers emit.
   std::string_view digits = token;
   if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
   double value = 0.0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (ec == std::errc::result_out_of_range) {
-    throw Error(ErrorCode::InvalidData, at_line(file, line, std::string(field) + ": '" + std::string(token) +
-                                                                "' is out of the range of a double"));
+    throw Error(ErrorCode::InvalidData, at_line(file, line,
+                                                std::string(field) + ": '" + std::string(token) +
+                                                    "' is out of the range of a double"));
   }
   if (ec != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
-    throw Error(ErrorCode::Parse,
-                at_line(file, line, std::string(field) + ": expected a number, got '" + std::string(token) + "'"));
+    throw Error(
+        ErrorCode::Parse,
+        at_line(file, line, std::string(field) + ": expected a number, got '" + std::string(token) + "'"));
   }
   if (!std::isfinite(value)) {
-    throw Error(ErrorCode::InvalidData, at_line(file, line, std::string(field) + ": expected a finite number, got '" +
-                                                                std::string(token) + "'"));
+    throw Error(ErrorCode::InvalidData,
+                at_line(file, line,
+                        std::string(field) + ": expected a finite number, got '" + std::string(token) + "'"));
   }
   return value;
 }
 
-void expect_token_count(const TextRow& row, std::size_t count, std::string_view file, std::string_view layout) {
+void expect_token_count(const TextRow& row, std::size_t count, std::string_view file,
+                        std::string_view layout) {
   if (row.tokens.size() == count) return;
   std::ostringstream msg;
   msg << "expected " << count << " values (" << layout << "), got " << row.tokens.size();

@@ -22,8 +22,7 @@ std::vector<TextRow> read_text_rows(const std::filesystem::path& path);
 
 // The token as a finite double; otherwise a Parse / InvalidData error
 // "file:line: <field>: expected a number, got 'abc'".
-double parse_number(std::string_view token, std::string_view file, std::size_t line,
-                    std::string_view field);
+double parse_number(std::string_view token, std::string_view file, std::size_t line, std::string_view field);
 
 // Throws a Parse error unless the row has exactly `count` tokens; `layout`
 // describes them ("timestamp tx ty tz qx qy qz qw").

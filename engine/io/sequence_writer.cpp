@@ -17,7 +17,8 @@ namespace {
 void validate_sensor(const SensorInfo& s) {
   const bool has_type = s.type != SensorType::Unknown;
   if (!has_type && (s.max_range != 0 || s.min_range != 0 || s.intrinsics)) {
-    throw Error(ErrorCode::InvalidArgument, "SequenceWriter: a sensor range or intrinsics needs a sensor type");
+    throw Error(ErrorCode::InvalidArgument,
+                "SequenceWriter: a sensor range or intrinsics needs a sensor type");
   }
   if (!(s.max_range >= 0) || !(s.min_range >= 0) || (s.max_range > 0 && s.min_range >= s.max_range)) {
     throw Error(ErrorCode::InvalidArgument,
@@ -25,7 +26,8 @@ void validate_sensor(const SensorInfo& s) {
   }
   if (s.intrinsics) {
     if (s.type != SensorType::DepthCamera) {
-      throw Error(ErrorCode::InvalidArgument, "SequenceWriter: intrinsics are only meaningful for a depth camera");
+      throw Error(ErrorCode::InvalidArgument,
+                  "SequenceWriter: intrinsics are only meaningful for a depth camera");
     }
     if (s.intrinsics->width <= 0 || s.intrinsics->height <= 0) {
       throw Error(ErrorCode::InvalidArgument, "SequenceWriter: intrinsics need the image width and height");
@@ -44,19 +46,21 @@ SequenceWriter::SequenceWriter(std::filesystem::path folder, SensorInfo sensor) 
   std::filesystem::create_directories(folder_, ec);
   if (ec) throw Error(ErrorCode::Io, folder_.string() + ": cannot create folder: " + ec.message());
   std::filesystem::remove(folder_ / "sequence.json", ec);
-  if (ec) throw Error(ErrorCode::Io, (folder_ / "sequence.json").string() + ": cannot remove: " + ec.message());
+  if (ec)
+    throw Error(ErrorCode::Io, (folder_ / "sequence.json").string() + ": cannot remove: " + ec.message());
 }
 
 void SequenceWriter::add(const Scan& scan) {
   if (finished_) throw Error(ErrorCode::InvalidArgument, "SequenceWriter: add() after finish()");
   if (!scan.origin.allFinite() || !std::isfinite(scan.timestamp)) {
-    throw Error(ErrorCode::InvalidArgument, "SequenceWriter: frame " + std::to_string(manifest_.frames.size()) +
+    throw Error(ErrorCode::InvalidArgument, "SequenceWriter: frame " +
+                                                std::to_string(manifest_.frames.size()) +
                                                 ": origin and timestamp must be finite");
   }
   if (!manifest_.frames.empty() && scan.timestamp < manifest_.frames.back().timestamp) {
-    throw Error(ErrorCode::InvalidArgument, "SequenceWriter: frame " + std::to_string(manifest_.frames.size()) +
-                                                ": timestamp " + std::to_string(scan.timestamp) +
-                                                " is earlier than the previous frame's");
+    throw Error(ErrorCode::InvalidArgument,
+                "SequenceWriter: frame " + std::to_string(manifest_.frames.size()) + ": timestamp " +
+                    std::to_string(scan.timestamp) + " is earlier than the previous frame's");
   }
   char name[32];
   std::snprintf(name, sizeof name, "frame_%06zu.ply", manifest_.frames.size());

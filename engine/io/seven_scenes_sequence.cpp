@@ -78,11 +78,13 @@ class SevenScenesSequence final : public ScanSource {
 std::optional<unsigned long> seven_scenes_frame_number(std::string_view name) {
   constexpr std::string_view kPrefix = "frame-";
   constexpr std::string_view kSuffix = ".depth.png";
-  if (name.size() <= kPrefix.size() + kSuffix.size() || !name.starts_with(kPrefix) || !name.ends_with(kSuffix)) {
+  if (name.size() <= kPrefix.size() + kSuffix.size() || !name.starts_with(kPrefix) ||
+      !name.ends_with(kSuffix)) {
     return std::nullopt;
   }
   const std::string_view digits = name.substr(kPrefix.size(), name.size() - kPrefix.size() - kSuffix.size());
-  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) return std::nullopt;
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
   unsigned long number = 0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), number);
   if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
@@ -94,7 +96,8 @@ std::unique_ptr<ScanSource> open_seven_scenes_sequence(const std::filesystem::pa
   SensorInfo sensor;
   sensor.type = SensorType::DepthCamera;
   sensor.max_range = options.max_depth;
-  sensor.intrinsics = find_intrinsics(options.intrinsics_file, folder / "camera-intrinsics.txt", "7-Scenes folder");
+  sensor.intrinsics =
+      find_intrinsics(options.intrinsics_file, folder / "camera-intrinsics.txt", "7-Scenes folder");
 
   std::vector<SevenScenesFrame> frames;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {
@@ -115,9 +118,10 @@ std::unique_ptr<ScanSource> open_seven_scenes_sequence(const std::filesystem::pa
             [](const SevenScenesFrame& a, const SevenScenesFrame& b) { return a.number < b.number; });
   for (std::size_t i = 1; i < frames.size(); ++i) {
     if (frames[i].number == frames[i - 1].number) {
-      throw Error(ErrorCode::InvalidData, folder.string() + ": frame number " + std::to_string(frames[i].number) +
-                                              " appears twice (" + frames[i - 1].depth_file.filename().string() +
-                                              ", " + frames[i].depth_file.filename().string() + ")");
+      throw Error(ErrorCode::InvalidData, folder.string() + ": frame number " +
+                                              std::to_string(frames[i].number) + " appears twice (" +
+                                              frames[i - 1].depth_file.filename().string() + ", " +
+                                              frames[i].depth_file.filename().string() + ")");
     }
   }
   DepthDecoding decoding;

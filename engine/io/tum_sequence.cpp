@@ -108,8 +108,9 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
   const std::filesystem::path depth_list = folder / "depth.txt";
   const std::filesystem::path gt_file = folder / "groundtruth.txt";
   if (!std::filesystem::exists(gt_file)) {
-    throw Error(ErrorCode::Io, folder.string() + ": TUM RGB-D folder has depth.txt but no groundtruth.txt "
-                                                 "(the poses); cannot place the frames");
+    throw Error(ErrorCode::Io, folder.string() +
+                                   ": TUM RGB-D folder has depth.txt but no groundtruth.txt "
+                                   "(the poses); cannot place the frames");
   }
   if (!(options.max_time_difference >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "max_time_difference must not be negative");
@@ -118,7 +119,8 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
   SensorInfo sensor;
   sensor.type = SensorType::DepthCamera;
   sensor.max_range = options.max_depth;
-  sensor.intrinsics = find_intrinsics(options.intrinsics_file, folder / "intrinsics.json", "TUM RGB-D folder");
+  sensor.intrinsics =
+      find_intrinsics(options.intrinsics_file, folder / "intrinsics.json", "TUM RGB-D folder");
 
   const std::string list_name = depth_list.string();
   std::vector<double> times;
@@ -127,12 +129,14 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
     expect_token_count(row, 2, list_name, "timestamp filename");
     const double t = parse_number(row.tokens[0], list_name, row.line, "timestamp");
     if (!times.empty() && t < times.back()) {
-      throw Error(ErrorCode::InvalidData,
-                  at_line(list_name, row.line, "timestamp " + row.tokens[0] + " is earlier than the line before"));
+      throw Error(
+          ErrorCode::InvalidData,
+          at_line(list_name, row.line, "timestamp " + row.tokens[0] + " is earlier than the line before"));
     }
     const std::filesystem::path file = folder / row.tokens[1];
     if (!std::filesystem::is_regular_file(file)) {
-      throw Error(ErrorCode::Io, at_line(list_name, row.line, "depth image " + file.string() + " does not exist"));
+      throw Error(ErrorCode::Io,
+                  at_line(list_name, row.line, "depth image " + file.string() + " does not exist"));
     }
     times.push_back(t);
     files.push_back(file);
@@ -147,8 +151,8 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
   }
   if (frames.empty()) {
     std::ostringstream msg;
-    msg << folder.string() << ": none of the " << times.size() << " depth frames has a ground-truth pose within "
-        << options.max_time_difference << " s";
+    msg << folder.string() << ": none of the " << times.size()
+        << " depth frames has a ground-truth pose within " << options.max_time_difference << " s";
     throw Error(ErrorCode::InvalidData, msg.str());
   }
   const std::size_t skipped = times.size() - frames.size();

@@ -3,12 +3,12 @@
 // them. stderr goes to a file, so the CLI sees a non-terminal there.
 #pragma once
 
+#include <sys/wait.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <sys/wait.h>
 
 namespace sarmap::test {
 

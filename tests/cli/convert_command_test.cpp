@@ -1,8 +1,8 @@
 // `sarmap convert`: PLY <-> PCD round trips, ASCII output, sequences merged
 // into one cloud or rewritten as a sarmap sequence, --voxel thinning.
-#include <cmath>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <cmath>
 #include <set>
 #include <string>
 #include <tuple>
@@ -50,10 +50,12 @@ TEST(CliConvert, PlyToPcdToPlyKeepsEveryPoint) {
   test::ScratchFolder dir;
   const PointBuffer original = sample_cloud();
   write_point_cloud(dir / "a.ply", original);
-  auto r = run_cli("convert --quiet " + quoted((dir / "a.ply").string()) + " " + quoted((dir / "b.pcd").string()),
-                   dir.path());
+  auto r =
+      run_cli("convert --quiet " + quoted((dir / "a.ply").string()) + " " + quoted((dir / "b.pcd").string()),
+              dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_cli("convert " + quoted((dir / "b.pcd").string()) + " " + quoted((dir / "c.ply").string()), dir.path());
+  r = run_cli("convert " + quoted((dir / "b.pcd").string()) + " " + quoted((dir / "c.ply").string()),
+              dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("50 points"));
   PointCloudFileInfo info;
@@ -67,9 +69,9 @@ TEST(CliConvert, PlyToPcdToPlyKeepsEveryPoint) {
 TEST(CliConvert, AsciiOutputIsAscii) {
   test::ScratchFolder dir;
   write_point_cloud(dir / "a.ply", sample_cloud());
-  const auto r = run_cli("convert --ascii --quiet " + quoted((dir / "a.ply").string()) + " " +
-                             quoted((dir / "a.pcd").string()),
-                         dir.path());
+  const auto r = run_cli(
+      "convert --ascii --quiet " + quoted((dir / "a.ply").string()) + " " + quoted((dir / "a.pcd").string()),
+      dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(test::read_all(dir / "a.pcd"), HasSubstr("\nDATA ascii\n"));
   expect_same_points(sample_cloud(), read_point_cloud(dir / "a.pcd"));
@@ -77,7 +79,8 @@ TEST(CliConvert, AsciiOutputIsAscii) {
 
 TEST(CliConvert, SequenceMergesIntoOneWorldFrameCloud) {
   test::ScratchFolder dir;
-  const auto r = run_cli("convert " + quoted(kTiny) + " " + quoted((dir / "merged.ply").string()), dir.path());
+  const auto r =
+      run_cli("convert " + quoted(kTiny) + " " + quoted((dir / "merged.ply").string()), dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");  // no progress line when stderr is not a terminal
   EXPECT_THAT(r.out, HasSubstr("5 points from 2 frames"));
@@ -92,7 +95,8 @@ TEST(CliConvert, SequenceMergesIntoOneWorldFrameCloud) {
 
 TEST(CliConvert, SequenceToSequenceFolder) {
   test::ScratchFolder dir;
-  const auto r = run_cli("convert --quiet " + quoted(kTiny) + " " + quoted((dir / "copy").string()), dir.path());
+  const auto r =
+      run_cli("convert --quiet " + quoted(kTiny) + " " + quoted((dir / "copy").string()), dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto a = open_scan_sequence(kTiny);
   auto b = open_scan_sequence(dir / "copy");
@@ -131,9 +135,9 @@ TEST(CliConvert, VoxelKeepsTheFirstPointOfEachVoxel) {
   ASSERT_LT(expected.size(), cloud.size());
   expect_same_points(expected, read_point_cloud(dir / "thin.ply"));
 
-  const auto bad = run_cli("convert --voxel -1 " + quoted((dir / "dense.ply").string()) + " " +
-                               quoted((dir / "x.ply").string()),
-                           dir.path());
+  const auto bad = run_cli(
+      "convert --voxel -1 " + quoted((dir / "dense.ply").string()) + " " + quoted((dir / "x.ply").string()),
+      dir.path());
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.err, HasSubstr("--voxel must be a positive size"));
 }
@@ -146,7 +150,8 @@ TEST(CliConvert, ErrorsExitNonZeroWithAMessage) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("a.xyz"));
   EXPECT_FALSE(std::filesystem::exists(dir / "a.xyz"));
-  r = run_cli("convert " + quoted((dir / "none").string()) + " " + quoted((dir / "b.ply").string()), dir.path());
+  r = run_cli("convert " + quoted((dir / "none").string()) + " " + quoted((dir / "b.ply").string()),
+              dir.path());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.err, HasSubstr("sarmap: error: "));
   r = run_cli("convert " + quoted((dir / "a.ply").string()), dir.path());  // OUT missing

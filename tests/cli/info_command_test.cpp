@@ -85,7 +85,8 @@ TEST(CliInfo, SequenceJsonAgreesWithWhatWasWritten) {
     if (f > 0) path += 5.0;
     scan.origin = scan.pose.translation();
     scan.timestamp = 0.25 * f;
-    for (int p = 0; p <= f * 10; ++p) scan.points.push_back(static_cast<float>(p), 0.0f, static_cast<float>(f));
+    for (int p = 0; p <= f * 10; ++p)
+      scan.points.push_back(static_cast<float>(p), 0.0f, static_cast<float>(f));
     total += scan.points.size();
     writer.add(scan);
   }

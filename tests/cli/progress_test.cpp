@@ -1,12 +1,12 @@
 #include "tools/sarmap/progress.hpp"
 
-#include <cstdio>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <pty.h>
-#include <string>
 #include <unistd.h>
+#include <cstdio>
+#include <string>
 
 namespace sarmap::cli {
 namespace {

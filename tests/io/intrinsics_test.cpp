@@ -15,7 +15,8 @@ using ::testing::HasSubstr;
 
 TEST(Intrinsics, ReadsJsonAndMatrixText) {
   test::ScratchFolder dir;
-  const auto json = dir.write("k.json", R"({"fx": 525.0, "fy": 520.5, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480})");
+  const auto json = dir.write(
+      "k.json", R"({"fx": 525.0, "fy": 520.5, "cx": 319.5, "cy": 239.5, "width": 640, "height": 480})");
   PinholeIntrinsics k = read_intrinsics_file(json);
   EXPECT_EQ(k.fx, 525.0);
   EXPECT_EQ(k.fy, 520.5);
@@ -40,8 +41,10 @@ TEST(Intrinsics, BadFilesNameTheProblem) {
     return error_message([&] { read_intrinsics_file(path); });
   };
   EXPECT_THAT(msg("a.json", R"({"fx": 1, "fy": 1, "cx": 0})"), HasSubstr("missing key \"cy\""));
-  EXPECT_THAT(msg("b.json", R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "k1": 0.1})"), HasSubstr("unknown key \"k1\""));
-  EXPECT_THAT(msg("c.json", R"({"fx": "big", "fy": 1, "cx": 0, "cy": 0})"), HasSubstr("fx: expected a number"));
+  EXPECT_THAT(msg("b.json", R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "k1": 0.1})"),
+              HasSubstr("unknown key \"k1\""));
+  EXPECT_THAT(msg("c.json", R"({"fx": "big", "fy": 1, "cx": 0, "cy": 0})"),
+              HasSubstr("fx: expected a number"));
   EXPECT_THAT(msg("d.json", R"({"fx": -5, "fy": 1, "cx": 0, "cy": 0})"), HasSubstr("must be positive"));
   EXPECT_THAT(msg("e.json", R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "width": 640})"),
               HasSubstr("width and height must be given together"));

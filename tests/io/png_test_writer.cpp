@@ -2,9 +2,9 @@
 // gtest failure in the one function that calls libpng.
 #include "png_test_writer.hpp"
 
+#include <png.h>
 #include <csetjmp>
 #include <cstdio>
-#include <png.h>
 #include <stdexcept>
 #include <string>
 

@@ -25,8 +25,10 @@ TEST(SequenceManifest, ParsesFramesWithDefaults) {
     "sensor": {"type": "depth_camera", "max_range": 8, "min_range": 0.3,
                "width": 64, "height": 48, "fx": 50, "fy": 51, "cx": 31.5, "cy": 23.5},
     "frames": [
-      {"file": "a.ply", "pose": )" + kTurnZ + R"(, "origin": [4, 5, 7]},
-      {"file": "sub/b.PCD", "pose": )" + kIdentity + R"(}]})";
+      {"file": "a.ply", "pose": )" +
+                           kTurnZ + R"(, "origin": [4, 5, 7]},
+      {"file": "sub/b.PCD", "pose": )" +
+                           kIdentity + R"(}]})";
   const SequenceManifest m = parse_sequence_manifest(text, "seq/sequence.json");
   EXPECT_EQ(m.points_frame, PointsFrame::Sensor);
   EXPECT_EQ(m.sensor.type, SensorType::DepthCamera);
@@ -79,7 +81,8 @@ TEST(SequenceManifest, EveryBadFieldIsNamed) {
     return error_message([&] { parse_sequence_manifest(text, "seq/sequence.json"); });
   };
   const std::string good = R"({"file": "f.ply", "pose": )" + kIdentity + "}";
-  std::string frames = good + "," + good + "," + good + R"(, {"file": "f.ply", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0]})";
+  std::string frames =
+      good + "," + good + "," + good + R"(, {"file": "f.ply", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0]})";
   EXPECT_EQ(msg(manifest_with(frames)), "seq/sequence.json: frames[3].pose: expected 16 numbers, got 12");
 
   EXPECT_THAT(msg(R"({"version": 2, "points_frame": "world", "frames": []})"),
@@ -90,13 +93,15 @@ TEST(SequenceManifest, EveryBadFieldIsNamed) {
               HasSubstr("unknown key \"colour\""));
   EXPECT_THAT(msg(R"({"version": 1, "points_frame": "camera", "frames": []})"),
               HasSubstr("points_frame: expected \"world\" or \"sensor\", got \"camera\""));
-  EXPECT_THAT(msg(R"({"version": 1, "points_frame": "world", "frames": {}})"), HasSubstr("frames: expected an array"));
+  EXPECT_THAT(msg(R"({"version": 1, "points_frame": "world", "frames": {}})"),
+              HasSubstr("frames: expected an array"));
   EXPECT_THAT(msg(R"({"version": 1, "points_frame": "world", "frames": [)"), HasSubstr("invalid JSON"));
   EXPECT_THAT(msg("[1, 2]"), HasSubstr("expected a JSON object"));
 
   EXPECT_THAT(msg(manifest_with(R"({"file": "f.ply", "pose": )" + kIdentity + R"(, "stamp": 1})")),
               HasSubstr("frames[0]: unknown key \"stamp\""));
-  EXPECT_THAT(msg(manifest_with(R"({"pose": )" + kIdentity + "}")), HasSubstr("frames[0]: missing key \"file\""));
+  EXPECT_THAT(msg(manifest_with(R"({"pose": )" + kIdentity + "}")),
+              HasSubstr("frames[0]: missing key \"file\""));
   EXPECT_THAT(msg(manifest_with(R"({"file": "f.txt", "pose": )" + kIdentity + "}")),
               HasSubstr("frames[0].file: \"f.txt\" is not a .ply or .pcd file"));
   EXPECT_THAT(msg(manifest_with(R"({"file": 3, "pose": )" + kIdentity + "}")), HasSubstr("frames[0].file"));

@@ -1,8 +1,8 @@
 #include "engine/io/sarmap_sequence.hpp"
 
-#include <cmath>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -80,10 +80,12 @@ TEST(SarmapSequence, MissingFramesAndBadLabelsAreNamed) {
   auto source = open_scan_sequence(dir.path());
   Scan scan;
   ASSERT_TRUE(source->next(scan));
-  EXPECT_THAT(error_message([&] { source->next(scan); }), HasSubstr("b.pcd: point 1: label 9 is not a class id"));
+  EXPECT_THAT(error_message([&] { source->next(scan); }),
+              HasSubstr("b.pcd: point 1: label 9 is not a class id"));
 
   dir.write("sequence.json", R"({"version": 2, "points_frame": "world", "frames": []})");
-  EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }), HasSubstr("unsupported sequence version 2"));
+  EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }),
+              HasSubstr("unsupported sequence version 2"));
   dir.write("sequence.json", R"({"version": 1, "points_frame": "world", "frames": [], "extra": 0})");
   EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }), HasSubstr("unknown key \"extra\""));
 }

@@ -2,11 +2,11 @@
 // test's name and the process id, because ctest runs tests in parallel.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <gtest/gtest.h>
 #include <string>
-#include <unistd.h>
 
 namespace sarmap::test {
 

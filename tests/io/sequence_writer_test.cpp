@@ -1,8 +1,8 @@
 #include "engine/io/sequence_writer.hpp"
 
-#include <cmath>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>

@@ -56,8 +56,8 @@ TEST(SevenScenesSequence, ReadsFramesInNumberOrderWithPosesAndMillimetres) {
   r << 0, -1, 0, 1, 0, 0, 0, 0, 1;
   for (std::size_t i = 0; i < 4; ++i) {
     const double d = mm[i] / 1000.0;
-    const Eigen::Vector3d expected = r * Eigen::Vector3d((us[i] - 1.0) * d / 100, (vs[i] - 0.5) * d / 100, d) +
-                                     Eigen::Vector3d(1, 2, 3);
+    const Eigen::Vector3d expected =
+        r * Eigen::Vector3d((us[i] - 1.0) * d / 100, (vs[i] - 0.5) * d / 100, d) + Eigen::Vector3d(1, 2, 3);
     EXPECT_NEAR(scan.points.x()[i], expected.x(), 1e-6);
     EXPECT_NEAR(scan.points.y()[i], expected.y(), 1e-6);
     EXPECT_NEAR(scan.points.z()[i], expected.z(), 1e-6);
@@ -113,8 +113,10 @@ TEST(SevenScenesSequence, FrameNumbersComeOnlyFromDepthImageNames) {
 TEST(ScanSequence, UnrecognisedOrMissingPathsAreErrors) {
   test::ScratchFolder dir;
   dir.write("notes.txt", "hello");
-  EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }), HasSubstr("not a recognised scan sequence"));
-  EXPECT_THAT(error_message([&] { open_scan_sequence(dir / "absent"); }), HasSubstr("no such file or folder"));
+  EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }),
+              HasSubstr("not a recognised scan sequence"));
+  EXPECT_THAT(error_message([&] { open_scan_sequence(dir / "absent"); }),
+              HasSubstr("no such file or folder"));
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #include "engine/io/tum_sequence.hpp"
 
-#include <cmath>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -80,7 +80,8 @@ TEST(TumSequence, FramesTakeTheNearestPoseAndFarOnesAreSkipped) {
         const std::uint16_t raw = pixels[static_cast<std::size_t>(v * kW + u)];
         if (raw == 0) continue;
         const double d = raw / 5000.0;
-        const Eigen::Vector3d expected = poses[f] * Eigen::Vector3d((u - kCx) * d / kFx, (v - kCy) * d / kFy, d);
+        const Eigen::Vector3d expected =
+            poses[f] * Eigen::Vector3d((u - kCx) * d / kFx, (v - kCy) * d / kFy, d);
         EXPECT_NEAR(scan.points.x()[i], expected.x(), 1e-5);
         EXPECT_NEAR(scan.points.y()[i], expected.y(), 1e-5);
         EXPECT_NEAR(scan.points.z()[i], expected.z(), 1e-5);
@@ -131,7 +132,8 @@ TEST(TumSequence, BadFilesNameFileLineAndField) {
   EXPECT_THAT(msg, HasSubstr("ty: expected a number, got 'x'"));
 
   dir.write("groundtruth.txt", "0.99 1 2 3 0 0 0 1\n1.095 -1 0 2 0 0 0\n");
-  EXPECT_THAT(open_error(), HasSubstr("groundtruth.txt:2: expected 8 values (timestamp tx ty tz qx qy qz qw), got 7"));
+  EXPECT_THAT(open_error(),
+              HasSubstr("groundtruth.txt:2: expected 8 values (timestamp tx ty tz qx qy qz qw), got 7"));
 
   dir.write("groundtruth.txt", "# c\n0.99 1 2 3 0 0 0 0\n");
   msg = open_error();

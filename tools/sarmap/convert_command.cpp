@@ -59,10 +59,10 @@ class VoxelThinning {
     std::uint64_t k = 0;
     for (const double v : c) {
       if (!(v >= -kLimit && v < kLimit)) {
-        throw Error(ErrorCode::OutOfRange, "convert: --voxel " + std::to_string(size_) + ": point (" +
-                                               std::to_string(x) + ", " + std::to_string(y) + ", " +
-                                               std::to_string(z) +
-                                               ") is more than 2^20 voxels from the origin; use larger voxels");
+        throw Error(ErrorCode::OutOfRange,
+                    "convert: --voxel " + std::to_string(size_) + ": point (" + std::to_string(x) + ", " +
+                        std::to_string(y) + ", " + std::to_string(z) +
+                        ") is more than 2^20 voxels from the origin; use larger voxels");
       }
       k = (k << 21) | static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + (1 << 20));
     }
@@ -91,7 +91,8 @@ void run_convert(const ConvertArgs& a) {
 
   if (std::filesystem::is_regular_file(in) && in.filename() != "sequence.json") {
     if (!is_cloud_path(out)) {
-      throw Error(ErrorCode::InvalidArgument, "convert: " + a.out + ": a cloud converts to a .ply or .pcd file");
+      throw Error(ErrorCode::InvalidArgument,
+                  "convert: " + a.out + ": a cloud converts to a .ply or .pcd file");
     }
     PointBuffer points = read_point_cloud(in);
     if (thinning) points = thinning->thin(points);
@@ -144,12 +145,14 @@ void add_convert_command(CLI::App& app) {
       "convert",
       "Convert PLY <-> PCD, or a scan sequence into one merged cloud (OUT.ply / OUT.pcd) or a sarmap "
       "sequence folder (OUT without extension)");
-  cmd->add_option("in", args->in, "PLY / PCD file or sequence folder (sarmap, TUM RGB-D, 7-Scenes)")->required();
+  cmd->add_option("in", args->in, "PLY / PCD file or sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
+      ->required();
   cmd->add_option("out", args->out, "Output .ply / .pcd file, or a folder for a sarmap sequence")->required();
   cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
   cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)");
-  cmd->add_option("--intrinsics", args->intrinsics,
-                  "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
+  cmd->add_option(
+      "--intrinsics", args->intrinsics,
+      "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
   cmd->add_option("--max-time-difference", args->max_time_difference,
                   "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
       ->capture_default_str();

@@ -218,8 +218,9 @@ void add_info_command(CLI::App& app) {
   cmd->add_option("path", args->path, "PLY / PCD file, or a sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
       ->required();
   cmd->add_flag("--json", args->json, "Machine-readable output");
-  cmd->add_option("--intrinsics", args->intrinsics,
-                  "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
+  cmd->add_option(
+      "--intrinsics", args->intrinsics,
+      "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
   cmd->add_option("--max-time-difference", args->max_time_difference,
                   "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
       ->capture_default_str();

@@ -1,9 +1,9 @@
 #include "tools/sarmap/progress.hpp"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
 namespace sarmap::cli {
 
