@@ -1,0 +1,58 @@
+// Tests `sarmap classify --raw-block` (tools/sarmap/classify_command.cpp) by
+// running the built binary: golden logits come back through .npy files, and
+// a block of the wrong width is refused with a message and a non-zero exit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "engine/io/npy.hpp"
+
+namespace sarmap {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
+
+int run(const std::string& args, const fs::path& err) {
+  const std::string cmd = std::string(SARMAP_CLI_PATH) + " classify " + args + " 2> " + err.string();
+  return std::system(cmd.c_str());
+}
+
+TEST(ClassifyRawBlock, WritesLogitsMatchingTheReference) {
+  const fs::path out = fs::temp_directory_path() / ("sarmap_logits_" + std::to_string(::getpid()) + ".npy");
+  const fs::path err = out.string() + ".err";
+  ASSERT_EQ(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir + "model_c6.safetensors --logits " +
+                    out.string() + " --threads 2",
+                err),
+            0);
+  const NpyArray got = read_npy_f32(out);
+  const NpyArray want = read_npy_f32(kDir + "logits_c6_n1024.npy");
+  ASSERT_EQ(got.shape, want.shape);
+  const float range = *std::max_element(want.values.begin(), want.values.end()) -
+                      *std::min_element(want.values.begin(), want.values.end());
+  for (std::size_t i = 0; i < got.values.size(); ++i) ASSERT_NEAR(got.values[i], want.values[i], 1e-3f * range);
+  fs::remove(out);
+  fs::remove(err);
+}
+
+TEST(ClassifyRawBlock, RefusesABlockOfTheWrongWidth) {
+  const fs::path out = fs::temp_directory_path() / ("sarmap_logits_bad_" + std::to_string(::getpid()) + ".npy");
+  const fs::path err = out.string() + ".err";
+  EXPECT_NE(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir + "model_c9.safetensors --logits " +
+                    out.string(),
+                err),
+            0);
+  EXPECT_FALSE(fs::exists(out));
+  std::ifstream in(err);
+  const std::string message((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(message.find("expects (N, 9)"), std::string::npos) << message;
+  fs::remove(err);
+}
+
+}  // namespace
+}  // namespace sarmap
