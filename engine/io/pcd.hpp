@@ -1,6 +1,8 @@
 // PCD v0.7 point clouds: read ascii, binary and binary_compressed (LZF);
-// write ascii and binary. Fields x y z, rgb (U 4, packed 0x00RRGGBB), label,
-// and optionally gt_label, normal_x/y/z, intensity.
+// write ascii and binary (binary_compressed with options.compressed). Fields
+// x y z, rgb (U 4, packed 0x00RRGGBB; F 4 read as bits), label, and optionally
+// gt_label, normal_x/y/z, intensity, scalar_<name>. Unknown fields and
+// COUNT > 1 fields are skipped; WIDTH * HEIGHT must equal POINTS.
 #pragma once
 
 #include <filesystem>
