@@ -78,10 +78,17 @@ void edge_conv_points_impl(const detail::EdgeConvArgs& e, std::size_t begin, std
           B acc[R][2];
           for (int r = 0; r < R; ++r) acc[r][0] = acc[r][1] = B(0.0f);
           accumulate<Arch, R>(edges + row * hidden, hidden, panel, hidden, acc);
+          // Spill with constant indices (see knn_body.hpp), then reduce.
+          alignas(64) float tile[R][NR];
+#pragma GCC unroll 16
+          for (int r = 0; r < R; ++r) {
+            acc[r][0].store_aligned(tile[r]);
+            acc[r][1].store_aligned(tile[r] + L);
+          }
           for (int r = 0; r < R; ++r) {
             float* m = maxima + ((row + r) / k) * width + p * NR;
-            xsimd::max(B::load_aligned(m), acc[r][0]).store_aligned(m);
-            xsimd::max(B::load_aligned(m + L), acc[r][1]).store_aligned(m + L);
+            xsimd::max(B::load_aligned(m), B::load_aligned(tile[r])).store_aligned(m);
+            xsimd::max(B::load_aligned(m + L), B::load_aligned(tile[r] + L)).store_aligned(m + L);
           }
         });
       }

@@ -72,12 +72,19 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           acc[r][1] = n1;
         }
         accumulate<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, dim, acc);
+        // Spill the tile with constant indices first: indexing acc with the
+        // run-time row of the selection loop would keep it in memory during
+        // the accumulation too.
+        alignas(64) float tile[R][NR];
+#pragma GCC unroll 16
+        for (int r = 0; r < R; ++r) {
+          acc[r][0].store_aligned(tile[r]);
+          acc[r][1].store_aligned(tile[r] + L);
+        }
         for (int r = 0; r < R; ++r) {
           const B t(threshold[r]);
-          if (!xsimd::any((acc[r][0] < t) || (acc[r][1] < t))) continue;
-          alignas(64) float tmp[NR];
-          acc[r][0].store_aligned(tmp);
-          acc[r][1].store_aligned(tmp + L);
+          const float* tmp = tile[r];
+          if (!xsimd::any((B::load_aligned(tmp) < t) || (B::load_aligned(tmp + L) < t))) continue;
           for (std::size_t l = 0; l < NR; ++l) {
             const std::size_t col = p * NR + l;
             if (tmp[l] < threshold[r] && col < q.count) {

@@ -8,7 +8,7 @@ namespace sarmap::kernels {
 namespace {
 
 // Preference order when nothing is forced: measured, not by width (PERF.md).
-constexpr SimdLevel kPreference[] = {SimdLevel::Avx2, SimdLevel::Avx512, SimdLevel::Sse42};
+constexpr SimdLevel kPreference[] = {SimdLevel::Avx512, SimdLevel::Avx2, SimdLevel::Sse42};
 
 SimdLevel initial_level() {
   if (const char* forced = std::getenv("SARMAP_SIMD")) {
