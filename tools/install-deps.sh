@@ -15,6 +15,14 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
 )
 
+# Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by
+# tools/python/dgcnn_reference.py, export_safetensors.py and the PyTorch peer
+# benchmark (bench/peers); the build, the tests and CI do not need them.
+if [[ "${1:-}" == "--python" ]]; then
+  packages+=(python3-torch python3-numpy libopenblas0-pthread)
+  shift
+fi
+
 if [[ "${1:-}" == "--list" ]]; then
   printf '%s\n' "${packages[@]}"
   exit 0
