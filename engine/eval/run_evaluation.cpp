@@ -1,12 +1,15 @@
 #include "engine/eval/run_evaluation.hpp"
 
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
 #include "engine/io/ply.hpp"
+#include "engine/metric/map_file.hpp"
+#include "engine/sim/ground_truth_grid.hpp"
 
 namespace sarmap::eval {
 namespace {
@@ -24,6 +27,25 @@ std::string percent(const std::optional<double>& v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2f%%", 100.0 * *v);
   return text;
+}
+
+// The ground truth counts what the whole trajectory sees; a run of fewer
+// frames (simulate --frames) is held to that, so say so.
+void note_partial_run(const sim::Arena& arena, const std::filesystem::path& run_dir,
+                      std::vector<std::string>& notes) {
+  std::ifstream in(run_dir / "manifest.json");
+  if (!in) return;
+  const Json manifest = Json::parse(in, nullptr, false);
+  const bool has_scans = !manifest.is_discarded() && manifest.contains("scans");
+  if (!has_scans || !manifest["scans"].is_number_unsigned()) return;
+  const auto scans = manifest["scans"].get<std::size_t>();
+  const std::size_t frames =
+      arena.trajectory.waypoints.empty() ? arena.trajectory.poses.size() : arena.trajectory.frames;
+  if (scans < frames) {
+    notes.push_back("the run holds " + std::to_string(scans) + " of the trajectory's " +
+                    std::to_string(frames) +
+                    " frames; voxel recall and free accuracy count what all of them see");
+  }
 }
 
 }  // namespace
@@ -45,7 +67,15 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   } else {
     e.notes.push_back(std::string(kPointsFile) + " absent: no per-point figures");
   }
-  if (!e.files[1].present) e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
+  if (e.files[1].present) {
+    const metric::MetricMap map = metric::load_map(run_dir / kMapFile);
+    sim::GroundTruthOptions truth_options;
+    truth_options.resolution = map.resolution();
+    e.voxels = score_voxels(map, sim::voxelize_arena(arena, truth_options));
+    note_partial_run(arena, run_dir, e.notes);
+  } else {
+    e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
+  }
   if (!e.files[2].present) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
   return e;
 }
@@ -84,6 +114,7 @@ std::string format_json(const RunEvaluation& e) {
     }
     j["confusion"] = {{"classes", classes}, {"rows", "ground truth"}, {"columns", "prediction"}, {"matrix", matrix}};
   }
+  if (e.voxels) add_voxel_scores_json(*e.voxels, j);
   j["notes"] = e.notes;
   return j.dump(2) + "\n";
 }
@@ -124,6 +155,7 @@ std::string format_table(const RunEvaluation& e) {
       out << "\n";
     }
   }
+  if (e.voxels) out << "\n" << format_voxel_scores(*e.voxels);
   if (!e.notes.empty()) {
     out << "\n";
     for (const std::string& n : e.notes) out << "note: " << n << "\n";

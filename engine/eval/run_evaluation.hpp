@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/eval/point_evaluation.hpp"
+#include "engine/eval/voxel_scores.hpp"
 #include "engine/sim/arena.hpp"
 
 namespace sarmap::eval {
@@ -24,6 +25,7 @@ struct RunEvaluation {
   std::filesystem::path run_dir;
   std::vector<RunFile> files;
   std::optional<PointEvaluation> points;  // from semantic_points.ply
+  std::optional<VoxelScores> voxels;      // map.sarmap against the arena voxelised at its resolution
   std::vector<std::string> notes;          // what was not scored, and why
 };
 
