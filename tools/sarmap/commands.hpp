@@ -13,6 +13,7 @@ void add_convert_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_eval_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_demo_command(CLI::App& app);
 void add_classify_command(CLI::App& app);
 
 }  // namespace sarmap::cli

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   sarmap::cli::add_simulate_command(app);
   sarmap::cli::add_eval_command(app);
   sarmap::cli::add_run_command(app);
+  sarmap::cli::add_demo_command(app);
   sarmap::cli::add_classify_command(app);
 
   try {

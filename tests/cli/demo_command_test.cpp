@@ -1,0 +1,103 @@
+// `sarmap demo` end to end on a tiny arena: simulate, run, eval and summary,
+// then the cached sequence reused, and simulated again when its inputs change.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/cli/cli_runner.hpp"
+
+namespace sarmap {
+namespace {
+
+namespace fs = std::filesystem;
+using test::quoted;
+using test::run_cli;
+
+class DemoCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("sarmap_demo_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A copy, so the test can change the arena's bytes.
+    fs::copy_file(fs::path(SARMAP_SOURCE_DIR) / "tests" / "cli" / "data" / "tiny_arena.json", arena_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  test::CliResult demo(const std::string& extra = "") {
+    return run_cli(
+        "demo --arena " + quoted(arena_.string()) + " --out " + quoted(out_.string()) + " --quiet" + extra,
+        dir_);
+  }
+  fs::path dir_;
+  fs::path arena_ =
+      fs::temp_directory_path() / ("sarmap_demo_cli_" + std::to_string(::getpid())) / "tiny.json";
+  fs::path out_ = fs::temp_directory_path() / ("sarmap_demo_cli_" + std::to_string(::getpid())) / "demo";
+};
+
+TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
+  const auto r = demo();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 scans"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("voxels    precision"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("class accuracy"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find((out_ / "run").string()), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out_ / "sequence" / "sequence.json"));
+  EXPECT_TRUE(fs::exists(out_ / "sequence.stamp"));
+  for (const char* f :
+       {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "manifest.json", "profile.json"}) {
+    EXPECT_TRUE(fs::exists(out_ / "run" / f)) << f;
+  }
+  const auto eval = nlohmann::json::parse(test::read_all(out_ / "eval.json"));
+  EXPECT_EQ(eval.at("arena").get<std::string>(), "tiny-3x2");
+  EXPECT_GT(eval.at("voxel_precision_within_1").get<double>(), 0.95);
+  EXPECT_GT(eval.at("voxel_class_accuracy").get<double>(), 0.9);
+  EXPECT_DOUBLE_EQ(eval.at("accuracy").get<double>(), 1.0);  // the labels classifier passes the truth through
+}
+
+TEST_F(DemoCommand, ReusesTheCachedSequenceUntilItsInputsChange) {
+  ASSERT_EQ(demo().exit_code, 0);
+  const auto frame = out_ / "sequence" / "frame_000000.ply";
+  const auto first_write = fs::last_write_time(frame);
+  const std::string stamp = test::read_all(out_ / "sequence.stamp");
+
+  auto r = demo();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("cached"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::last_write_time(frame), first_write);
+  EXPECT_EQ(test::read_all(out_ / "sequence.stamp"), stamp);
+
+  // Another noise seed, then another arena file: simulated again each time.
+  r = demo(" --seed 7");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+  const std::string seed_stamp = test::read_all(out_ / "sequence.stamp");
+  EXPECT_NE(seed_stamp, stamp);
+  std::ofstream(arena_, std::ios::app) << "\n";
+  r = demo(" --seed 7");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+  EXPECT_NE(test::read_all(out_ / "sequence.stamp"), seed_stamp);
+
+  // A sequence whose stamp is gone (an interrupted simulation) is not trusted.
+  fs::remove(out_ / "sequence.stamp");
+  r = demo(" --seed 7");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+}
+
+TEST_F(DemoCommand, BadArenaIsAnError) {
+  const auto r = run_cli("demo --arena " + quoted((dir_ / "nope.json").string()) + " --out " +
+                             quoted(out_.string()) + " --quiet",
+                         dir_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("nope.json"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace sarmap
