@@ -295,6 +295,28 @@ def write_fixtures(out_dir):
                   f"kNN relative margins {['%.1e' % g for g in knn_margin(model, block)]}")
 
 
+def write_feature_fixture(out_dir):
+    """features_points.npy: (M, 6) float32 x, y, z, r, g, b of points in the cell
+    at FEATURE_ORIGIN (size 1 m); features_c6/c9.npy: block_features of them."""
+    rng = np.random.default_rng(11)
+    m = 200
+    pts = np.zeros((m, 6), dtype="<f4")
+    pts[:, 0] = FEATURE_ORIGIN[0] + rng.random(m)
+    pts[:, 1] = FEATURE_ORIGIN[1] + rng.random(m)
+    pts[:, 2] = rng.uniform(-0.4, 2.4, m)
+    pts[:, 3:] = rng.integers(0, 256, (m, 3))
+    xyz, rgb = pts[:, :3].astype(np.float64), pts[:, 3:].astype(np.float64)
+    z_min, z_max = float(DEFAULT_METADATA["sarmap.z_min"]), float(DEFAULT_METADATA["sarmap.z_max"])
+    block = float(DEFAULT_METADATA["sarmap.block_size"])
+    os.makedirs(out_dir, exist_ok=True)
+    np.save(os.path.join(out_dir, "features_points.npy"), pts)
+    np.save(os.path.join(out_dir, "features_c6.npy"), block_features(xyz, None, FEATURE_ORIGIN, block, z_min, z_max))
+    np.save(os.path.join(out_dir, "features_c9.npy"), block_features(xyz, rgb, FEATURE_ORIGIN, block, z_min, z_max))
+
+
+FEATURE_ORIGIN = (2.0, -3.0)
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description="sarmap's reference DGCNN")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -304,6 +326,8 @@ def main(argv):
     run.add_argument("model")
     run.add_argument("block")
     run.add_argument("logits")
+    ft = sub.add_parser("features", help="write points + their expected block features (C++ feature test)")
+    ft.add_argument("out_dir")
     rnd = sub.add_parser("random-model", help="a full-size random model (benchmarks)")
     rnd.add_argument("model")
     rnd.add_argument("--channels", type=int, default=6)
@@ -314,6 +338,8 @@ def main(argv):
 
     if args.command == "fixtures":
         write_fixtures(args.out_dir)
+    elif args.command == "features":
+        write_feature_fixture(args.out_dir)
     elif args.command == "run":
         tensors, metadata = read_safetensors(args.model)
         model = model_from_tensors(tensors, int(metadata.get("sarmap.k", 20)))
