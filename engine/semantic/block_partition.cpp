@@ -68,6 +68,7 @@ BlockPartition partition_blocks(const PointBuffer& points, const BlockPartitionS
     Block block;
     block.origin_x = ox + static_cast<double>(key.second) * s;
     block.origin_y = oy + static_cast<double>(key.first) * s;
+    block.size = b;
     block.points = std::move(members);
     result.blocks.push_back(std::move(block));
   }

@@ -18,6 +18,7 @@ struct BlockPartitionSettings {
 
 struct Block {
   double origin_x = 0.0, origin_y = 0.0;  // lower corner of the cell
+  double size = 1.0;                      // side of the cell, metres
   std::vector<std::uint32_t> points;      // indices into the cloud, ascending
 };
 

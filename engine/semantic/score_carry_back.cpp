@@ -1,0 +1,136 @@
+// Nearest-sample search on a 2-D grid of the block's samples, searched in
+// growing rings until no unvisited cell can hold anything nearer.
+#include "engine/semantic/score_carry_back.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "engine/core/error.hpp"
+
+namespace sarmap {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+double dist2(const PointBuffer& pts, std::uint32_t a, std::uint32_t b) {
+  const double dx = static_cast<double>(pts.x()[a]) - pts.x()[b];
+  const double dy = static_cast<double>(pts.y()[a]) - pts.y()[b];
+  const double dz = static_cast<double>(pts.z()[a]) - pts.z()[b];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// Own copy when sampled (first copy), kNone otherwise.
+std::vector<std::uint32_t> own_copies(const Block& block, std::span<const std::uint32_t> samples) {
+  std::vector<std::uint32_t> own(block.points.size(), kNone);
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    if (samples[s] >= block.points.size()) {
+      throw Error(ErrorCode::InvalidArgument, "score carry-back: sample position " + std::to_string(samples[s]) +
+                                                  " past the block's " + std::to_string(block.points.size()) + " points");
+    }
+    if (own[samples[s]] == kNone) own[samples[s]] = static_cast<std::uint32_t>(s);
+  }
+  return own;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> nearest_sample_reference(const PointBuffer& points, const Block& block,
+                                                    std::span<const std::uint32_t> samples) {
+  std::vector<std::uint32_t> out = own_copies(block, samples);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (out[i] != kNone) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+      const double d = dist2(points, block.points[i], block.points[samples[s]]);
+      if (d < best) best = d, out[i] = static_cast<std::uint32_t>(s);
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block& block,
+                                          std::span<const std::uint32_t> samples) {
+  std::vector<std::uint32_t> out = own_copies(block, samples);
+  if (samples.empty()) throw Error(ErrorCode::InvalidArgument, "score carry-back: a block without samples");
+  constexpr long long kSide = 32;
+  const double cell = block.size / kSide;
+  auto cell_of = [&](double v, double origin) {
+    return std::clamp(static_cast<long long>(std::floor((v - origin) / cell)), 0LL, kSide - 1);
+  };
+  // Counting sort of samples into cells (the first copy of each sampled point is enough).
+  std::vector<std::uint32_t> start(kSide * kSide + 1, 0), items;
+  std::vector<std::uint32_t> sample_cell(samples.size(), kNone);
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    if (out[samples[s]] != s) continue;
+    const std::uint32_t p = block.points[samples[s]];
+    sample_cell[s] = static_cast<std::uint32_t>(cell_of(points.y()[p], block.origin_y) * kSide +
+                                                cell_of(points.x()[p], block.origin_x));
+    ++start[sample_cell[s] + 1];
+  }
+  for (std::size_t c = 0; c < start.size() - 1; ++c) start[c + 1] += start[c];
+  items.resize(start.back());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    if (sample_cell[s] != kNone) items[fill[sample_cell[s]]++] = static_cast<std::uint32_t>(s);
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (out[i] != kNone) continue;
+    const std::uint32_t p = block.points[i];
+    const long long cx = cell_of(points.x()[p], block.origin_x), cy = cell_of(points.y()[p], block.origin_y);
+    double best = std::numeric_limits<double>::infinity();
+    std::uint32_t best_s = kNone;
+    for (long long r = 0; r < kSide; ++r) {
+      // Every cell at ring r is at least (r - 1) cells away in x or y.
+      if (r >= 1) {
+        const double reach = (static_cast<double>(r) - 1.0) * cell;
+        if (reach > 0.0 && reach * reach > best) break;
+      }
+      for (long long y = cy - r; y <= cy + r; ++y) {
+        if (y < 0 || y >= kSide) continue;
+        const bool edge_row = (y == cy - r || y == cy + r);
+        for (long long x = cx - r; x <= cx + r; x += (edge_row ? 1 : 2 * r)) {
+          if (x >= 0 && x < kSide) {
+            const std::size_t c = static_cast<std::size_t>(y * kSide + x);
+            for (std::uint32_t k = start[c]; k < start[c + 1]; ++k) {
+              const std::uint32_t s = items[k];
+              const double d = dist2(points, p, block.points[samples[s]]);
+              if (d < best || (d == best && s < best_s)) best = d, best_s = s;
+            }
+          }
+          if (r == 0) break;
+        }
+      }
+    }
+    out[i] = best_s;
+  }
+  return out;
+}
+
+ScoreAccumulator::ScoreAccumulator(std::size_t point_count, std::size_t classes)
+    : classes_(classes), sums_(point_count * classes, 0.0), hits_(point_count, 0) {}
+
+void ScoreAccumulator::add_block(const PointBuffer& points, const Block& block, std::span<const std::uint32_t> samples,
+                                 std::span<const float> scores) {
+  if (scores.size() != samples.size() * classes_) {
+    throw Error(ErrorCode::InvalidArgument, "score carry-back: " + std::to_string(scores.size()) + " scores for " +
+                                                std::to_string(samples.size()) + " samples of " + std::to_string(classes_) + " classes");
+  }
+  const std::vector<std::uint32_t> nearest = nearest_sample(points, block, samples);
+  for (std::size_t i = 0; i < nearest.size(); ++i) {
+    const std::uint32_t p = block.points[i];
+    const float* row = scores.data() + static_cast<std::size_t>(nearest[i]) * classes_;
+    for (std::size_t c = 0; c < classes_; ++c) sums_[p * classes_ + c] += row[c];
+    ++hits_[p];
+  }
+}
+
+std::vector<float> ScoreAccumulator::mean(std::size_t p) const {
+  std::vector<float> out(classes_, 0.0f);
+  if (hits_[p] == 0) return out;
+  for (std::size_t c = 0; c < classes_; ++c) out[c] = static_cast<float>(sums_[p * classes_ + c] / hits_[p]);
+  return out;
+}
+
+}  // namespace sarmap
