@@ -1,0 +1,98 @@
+// Blocks run in parallel (one workspace per thread); their scores are then
+// accumulated serially in block order so the result is thread-count independent.
+#include "engine/semantic/dgcnn_classifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/semantic/block_features.hpp"
+#include "engine/semantic/block_partition.hpp"
+#include "engine/semantic/block_sampling.hpp"
+#include "engine/semantic/score_carry_back.hpp"
+
+namespace sarmap {
+
+DgcnnClassifier::DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings)
+    : model_(model), settings_(settings) {
+  const DgcnnMetadata& m = model.metadata();
+  if (!m.has_preprocessing()) {
+    throw Error(ErrorCode::InvalidData, "DGCNN model lacks the sarmap.normalisation / sarmap.classes metadata "
+                                        "needed to label clouds");
+  }
+  if (m.classes.size() != model.classes()) {
+    throw Error(ErrorCode::InvalidData, "DGCNN model metadata names " + std::to_string(m.classes.size()) +
+                                            " classes but the network has " + std::to_string(model.classes()) + " logits");
+  }
+  if (model.channels() != 6 && model.channels() != 9) {
+    throw Error(ErrorCode::Unsupported, "DGCNN model with " + std::to_string(model.channels()) +
+                                            " input channels; block features give 6 or 9");
+  }
+}
+
+DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
+  const DgcnnMetadata& m = model_.metadata();
+  const bool rgb = model_.channels() == 9;
+  if (rgb && !points.has_colors()) {
+    throw Error(ErrorCode::InvalidArgument, "the DGCNN model takes colours (9 channels) but the cloud has none");
+  }
+  BlockPartitionSettings ps;
+  ps.block_size = m.block_size;
+  ps.stride = settings_.stride;
+  ps.min_points = settings_.min_points;
+  const BlockPartition part = partition_blocks(points, ps);
+  const std::size_t classes = model_.classes(), target = m.points_per_block;
+
+  std::vector<std::vector<std::uint32_t>> samples(part.blocks.size());
+  std::vector<std::vector<float>> scores(part.blocks.size());
+  tbb::enumerable_thread_specific<DgcnnWorkspace> workspaces;
+  tbb::parallel_for(std::size_t{0}, part.blocks.size(), [&](std::size_t b) {
+    const Block& block = part.blocks[b];
+    samples[b] = sample_block(block.points.size(), target, settings_.seed, b);
+    std::vector<std::uint32_t> indices(samples[b].size());
+    for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = block.points[samples[b][i]];
+    BlockFrame frame{block.origin_x, block.origin_y, block.size, m.z_min, m.z_max};
+    const std::vector<float> features = block_features(points, indices, frame, rgb);
+    std::vector<float>& s = scores[b];
+    s.resize(indices.size() * classes);
+    model_.forward(features.data(), indices.size(), s.data(), workspaces.local());
+    for (std::size_t i = 0; i < indices.size(); ++i) {  // softmax per row
+      float* row = s.data() + i * classes;
+      const float top = *std::max_element(row, row + classes);
+      double sum = 0.0;
+      for (std::size_t c = 0; c < classes; ++c) sum += (row[c] = std::exp(row[c] - top));
+      for (std::size_t c = 0; c < classes; ++c) row[c] = static_cast<float>(row[c] / sum);
+    }
+  });
+
+  ScoreAccumulator acc(points.size(), classes);
+  for (std::size_t b = 0; b < part.blocks.size(); ++b) acc.add_block(points, part.blocks[b], samples[b], scores[b]);
+
+  points.enable_labels();
+  std::vector<std::size_t> channels(classes);
+  for (std::size_t c = 0; c < classes; ++c) {
+    const std::string name(class_info(m.classes[c]).name);
+    const std::size_t existing = points.find_score(name);
+    channels[c] = existing < points.score_count() ? existing : points.add_score(name);
+  }
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const std::vector<float> mean = acc.mean(p);
+    for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[p] = mean[c];
+    if (acc.hits(p) == 0) {
+      points.labels()[p] = static_cast<std::uint8_t>(ClassId::Unknown);
+    } else {
+      const std::size_t best = static_cast<std::size_t>(std::max_element(mean.begin(), mean.end()) - mean.begin());
+      points.labels()[p] = static_cast<std::uint8_t>(m.classes[best]);
+    }
+  }
+  return {part.blocks.size(), part.dropped_points};
+}
+
+}  // namespace sarmap

@@ -1,0 +1,39 @@
+// Labels a whole scan with the DGCNN: partition into blocks, sample and
+// featurise each, run the network per block, carry scores back to every point.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/semantic/dgcnn_model.hpp"
+
+namespace sarmap {
+
+struct DgcnnClassifierSettings {
+  double stride = 0.0;           // <= 0: the model's block size (no overlap)
+  std::size_t min_points = 500;  // sparser blocks are dropped
+  std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
+};
+
+struct DgcnnClassifyStats {
+  std::size_t blocks = 0;
+  std::size_t dropped_points = 0;  // only in dropped blocks: labelled unknown
+};
+
+class DgcnnClassifier {
+ public:
+  // Throws sarmap::Error when the model lacks the preprocessing metadata.
+  DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings);
+
+  // Sets labels (sarmap class ids) and one score channel per model class
+  // (named after the class, softmax probabilities averaged over blocks) on
+  // `points`. A 9-channel model needs colours. Runs in the caller's TBB arena.
+  DgcnnClassifyStats classify(PointBuffer& points) const;
+
+ private:
+  const DgcnnModel& model_;
+  DgcnnClassifierSettings settings_;
+};
+
+}  // namespace sarmap
