@@ -2,7 +2,12 @@
 // runs the DGCNN on one prepared (N, C) float32 block, no preprocessing, and
 // writes the (N, classes) logits. This is how sarmap is compared with any
 // other implementation of the network (tools/python/dgcnn_reference.py run).
+// `sarmap classify INPUT --model M --out OUT.ply`: labels a PLY/PCD cloud or
+// frame --frame N of a sequence folder (world frame) with DgcnnClassifier.
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +17,9 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/npy.hpp"
+#include "engine/io/point_cloud_file.hpp"
+#include "engine/io/scan_source.hpp"
+#include "engine/semantic/dgcnn_classifier.hpp"
 #include "engine/semantic/dgcnn_model.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/commands.hpp"
@@ -20,6 +28,12 @@ namespace sarmap::cli {
 namespace {
 
 struct ClassifyOptions {
+  std::string input;
+  std::size_t frame = 0;
+  std::string out;
+  double stride = 0.0;
+  std::size_t min_points = 500;
+  std::uint64_t seed = 1;
   std::string raw_block;
   std::string model;
   std::string logits;
@@ -27,12 +41,13 @@ struct ClassifyOptions {
   std::string simd;
 };
 
-void run_raw_block(const ClassifyOptions& o) {
-  std::unique_ptr<tbb::global_control> limit;
-  if (o.threads > 0) {
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                  static_cast<std::size_t>(o.threads));
-  }
+std::unique_ptr<tbb::global_control> thread_limit(const ClassifyOptions& o) {
+  if (o.threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                               static_cast<std::size_t>(o.threads));
+}
+
+kernels::SimdLevel chosen_level(const ClassifyOptions& o) {
   kernels::SimdLevel level = kernels::active_simd_level();
   if (!o.simd.empty()) {
     const auto forced = kernels::simd_level_from_string(o.simd);
@@ -42,7 +57,13 @@ void run_raw_block(const ClassifyOptions& o) {
     }
     level = *forced;
   }
-  const DgcnnModel model = DgcnnModel::load(o.model, level);
+  return level;
+}
+
+void run_raw_block(const ClassifyOptions& o) {
+  const auto limit = thread_limit(o);
+  if (o.logits.empty()) throw Error(ErrorCode::InvalidArgument, "classify --raw-block needs --logits OUT.npy");
+  const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
   const NpyArray block = read_npy_f32(o.raw_block);
   if (block.shape.size() != 2 || block.shape[1] != model.channels() || block.shape[0] == 0) {
     std::string shape;
@@ -58,20 +79,64 @@ void run_raw_block(const ClassifyOptions& o) {
   write_npy_f32(o.logits, shape, logits);
 }
 
+void run_cloud(const ClassifyOptions& o) {
+  const auto limit = thread_limit(o);
+  if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "classify INPUT needs --out OUT.ply|OUT.pcd");
+  point_cloud_format_of(o.out);  // reject an unknown output extension before the work
+  const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
+  DgcnnClassifierSettings settings;
+  settings.stride = o.stride;
+  settings.min_points = o.min_points;
+  settings.seed = o.seed;
+  const DgcnnClassifier classifier(model, settings);
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(o.input);
+  if (o.frame >= source->size()) {
+    throw Error(ErrorCode::InvalidArgument, o.input + ": --frame " + std::to_string(o.frame) + " but the sequence has " +
+                                                std::to_string(source->size()) + " frames");
+  }
+  Scan scan;
+  for (std::size_t i = 0; i <= o.frame; ++i) {
+    if (!source->next(scan)) throw Error(ErrorCode::Io, o.input + ": frame " + std::to_string(i) + " could not be read");
+  }
+  PointBuffer& points = scan.points;
+  if (points.has_labels()) {  // keep the input's labels as ground truth beside the prediction
+    points.enable_gt_labels();
+    std::copy(points.labels().begin(), points.labels().end(), points.gt_labels().begin());
+  }
+  const DgcnnClassifyStats stats = classifier.classify(points);
+  write_point_cloud(o.out, points);
+  std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown\n",
+              points.size(), stats.blocks, stats.dropped_points, o.min_points);
+}
+
 }  // namespace
 
 void add_classify_command(CLI::App& app) {
   auto options = std::make_shared<ClassifyOptions>();
   CLI::App* cmd = app.add_subcommand("classify", "Run the DGCNN semantic network");
+  cmd->add_option("input", options->input, "A PLY/PCD cloud or a sequence folder to label")->check(CLI::ExistingPath);
+  cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)");
+  cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
+  cmd->add_option("--stride", options->stride, "Metres between block origins (default: the block size)");
+  cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)");
+  cmd->add_option("--seed", options->seed, "Sampling seed (default 1)");
   cmd->add_option("--raw-block", options->raw_block,
                   "An (N, C) float32 .npy block fed to the network as it is (no preprocessing)")
-      ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--model", options->model, "The network weights (.safetensors)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--logits", options->logits, "Where to write the (N, classes) float32 logits (.npy)")->required();
+  cmd->add_option("--logits", options->logits, "With --raw-block: where to write the (N, classes) float32 logits (.npy)");
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--simd", options->simd, "Force an instruction set: sse4_2, avx2 or avx512");
-  cmd->callback([options] { run_raw_block(*options); });
+  cmd->callback([options] {
+    if (options->raw_block.empty() == options->input.empty()) {
+      throw Error(ErrorCode::InvalidArgument, "classify: give either INPUT (a cloud or sequence) or --raw-block BLOCK.npy");
+    }
+    if (options->raw_block.empty()) {
+      run_cloud(*options);
+    } else {
+      run_raw_block(*options);
+    }
+  });
 }
 
 }  // namespace sarmap::cli
