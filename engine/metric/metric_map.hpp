@@ -23,6 +23,13 @@ struct MetricMapSettings {
   LabelFusionSettings fusion;
 };
 
+// Default settings at another voxel size.
+inline MetricMapSettings settings_at_resolution(double resolution) {
+  MetricMapSettings settings;
+  settings.resolution = resolution;
+  return settings;
+}
+
 struct MapCounts {
   std::size_t blocks = 0, known = 0, free = 0, occupied = 0;
 };

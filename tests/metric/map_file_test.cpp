@@ -30,7 +30,7 @@ class MapFileTest : public ::testing::Test {
 };
 
 MetricMap room_map(ClassFusion fusion) {
-  MetricMapSettings s{0.1};
+  MetricMapSettings s = settings_at_resolution(0.1);
   s.fusion.fusion = fusion;
   s.occupancy.prob_hit = 0.75;
   MetricMap map(s);

@@ -15,7 +15,7 @@ namespace {
 
 // A wall of wall-class points at x = 1.0..1.05 seen from the origin.
 MetricMap wall_map() {
-  MetricMap map({0.05});
+  MetricMap map(settings_at_resolution(0.05));
   RayIntegrator integrator;
   PointBuffer pts;
   pts.enable_labels();
@@ -81,7 +81,7 @@ TEST(MapQueries, BoxIterationAndFrontiers) {
 }
 
 TEST(CoarseView, AnyOccupiedChildMakesTheParentOccupiedWithSummedClass) {
-  MetricMap map({0.05});
+  MetricMap map(settings_at_resolution(0.05));
   auto& access = map.blocks();
   auto& block = access.find_or_create(BlockKey{0, 0, 0});
   // Coarse (x2) voxel (0,0,0) covers voxels 0..1 on each axis.

@@ -54,7 +54,7 @@ void expect_same_states(const MetricMap& map, const octomap::OcTree& tree) {
 }
 
 MetricMap room_map(double res, int frames, int w, int h) {
-  MetricMap map({res});
+  MetricMap map(settings_at_resolution(res));
   RayIntegrator integrator;
   testing::SyntheticRoom room;
   for (int f = 0; f < frames; ++f) {
@@ -86,7 +86,7 @@ TEST(OctomapExport, OctomapReadsTheFileBackVoxelByVoxel) {
 }
 
 TEST(OctomapExport, PrunesAFullUniformBlockToOneLeaf) {
-  MetricMap map({0.05});
+  MetricMap map(settings_at_resolution(0.05));
   auto& block = map.blocks().find_or_create(BlockKey{0, 0, 0});
   for (auto& v : block.voxels) v.log_odds = map.occupancy().max();
   std::istringstream in(octomap_binary(map));
@@ -97,13 +97,13 @@ TEST(OctomapExport, PrunesAFullUniformBlockToOneLeaf) {
 }
 
 TEST(OctomapExport, EmptyMapAndMapsBeyondSixteenBitKeys) {
-  MetricMap empty({0.05});
+  MetricMap empty(settings_at_resolution(0.05));
   std::istringstream in(octomap_binary(empty));
   octomap::OcTree tree(0.05);
   EXPECT_TRUE(tree.readBinary(in));
   EXPECT_EQ(tree.size(), 0u);
 
-  MetricMap far({0.01});
+  MetricMap far(settings_at_resolution(0.01));
   // Voxel 40000 at 0.01 m is 400 m away: beyond OctoMap's +-327.68 m at this resolution.
   far.blocks().find_or_create(block_of(VoxelKey{40000, 0, 0})).voxels[0].log_odds = 100;
   try {
@@ -118,7 +118,7 @@ TEST(OctomapExport, EmptyMapAndMapsBeyondSixteenBitKeys) {
 TEST(OctomapAgreement, SameScansGiveTheSameStatesOnNinetyNinePercent) {
   for (const double res : {0.05, 0.1}) {
     const int frames = 8;
-    MetricMap map({res});
+    MetricMap map(settings_at_resolution(res));
     RayIntegrator integrator;
     octomap::OcTree tree(res);
     testing::SyntheticRoom room;

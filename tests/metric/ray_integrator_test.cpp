@@ -48,7 +48,7 @@ bool maps_identical(const MetricMap& a, const MetricMap& b) {
 }
 
 TEST(RayIntegrator, SingleRayMarksMissesThenAHit) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   const auto stats = integrator.integrate(map, cloud({{0.525f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
   EXPECT_EQ(stats.rays, 1u);
@@ -64,7 +64,7 @@ TEST(RayIntegrator, SingleRayMarksMissesThenAHit) {
 }
 
 TEST(RayIntegrator, LogOddsClampLikeOctoMap) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   for (int i = 0; i < 10; ++i) integrator.integrate(map, cloud({{0.525f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
   EXPECT_EQ(log_odds(map, {10, 0, 0}), map.occupancy().max());
@@ -73,7 +73,7 @@ TEST(RayIntegrator, LogOddsClampLikeOctoMap) {
 }
 
 TEST(RayIntegrator, EndPointsInOneVoxelCastOnceAndHitsWinOverMisses) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   // Two points in voxel (10,0,0), one in voxel (5,0,0) on the same line of sight.
   const auto stats = integrator.integrate(
@@ -86,7 +86,7 @@ TEST(RayIntegrator, EndPointsInOneVoxelCastOnceAndHitsWinOverMisses) {
 }
 
 TEST(RayIntegrator, ZeroLengthRayAndOriginInsideAnOccupiedVoxel) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   // A point in the origin's own voxel: a hit, nothing walked.
   auto stats = integrator.integrate(map, cloud({{0.03f, 0.03f, 0.03f}}), {0.025, 0.025, 0.025});
@@ -102,7 +102,7 @@ TEST(RayIntegrator, ZeroLengthRayAndOriginInsideAnOccupiedVoxel) {
 }
 
 TEST(RayIntegrator, MaxRangeCutsRaysIntoMissesOnly) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   IntegratorSettings s;
   s.max_range = 0.5;
   RayIntegrator integrator(s);
@@ -116,7 +116,7 @@ TEST(RayIntegrator, MaxRangeCutsRaysIntoMissesOnly) {
   EXPECT_EQ(map.state({40, 0, 0}), VoxelState::Unknown);
 
   s.clear_beyond_max_range = false;
-  MetricMap quiet({kRes});
+  MetricMap quiet(settings_at_resolution(kRes));
   RayIntegrator ignoring(s);
   const auto none = ignoring.integrate(quiet, cloud({{2.025f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
   EXPECT_EQ(none.rays, 0u);
@@ -126,7 +126,7 @@ TEST(RayIntegrator, MaxRangeCutsRaysIntoMissesOnly) {
 TEST(RayIntegrator, TrueEndPointsWhenNotDiscretised) {
   IntegratorSettings s;
   s.discretize = false;
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator(s);
   const auto stats = integrator.integrate(map, cloud({{0.51f, 0.02f, 0.03f}, {0.54f, 0.03f, 0.02f}}),
                                           {0.025, 0.025, 0.025});
@@ -136,7 +136,7 @@ TEST(RayIntegrator, TrueEndPointsWhenNotDiscretised) {
 }
 
 TEST(RayIntegrator, RejectsAndCountsPointsBeyondTenKilometres) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   PointBuffer pts = cloud({{0.525f, 0.025f, 0.025f}, {10000.5f, 0, 0}, {0, -20000, 0}});
   pts.push_back(std::nanf(""), 0, 0);
@@ -148,7 +148,7 @@ TEST(RayIntegrator, RejectsAndCountsPointsBeyondTenKilometres) {
 }
 
 TEST(RayIntegrator, BadLabelThrowsBeforeTouchingTheMap) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   PointBuffer pts = cloud({{0.525f, 0.025f, 0.025f}, {0.3f, 0.2f, 0.1f}});
   pts.labels()[1] = 9;
@@ -163,7 +163,7 @@ TEST(RayIntegrator, BadLabelThrowsBeforeTouchingTheMap) {
 }
 
 TEST(RayIntegrator, HistogramFusionCountsPointsPerClass) {
-  MetricMapSettings ms{kRes};
+  MetricMapSettings ms = settings_at_resolution(kRes);
   ms.fusion.fusion = ClassFusion::Histogram;
   MetricMap map(ms);
   RayIntegrator integrator;
@@ -177,7 +177,7 @@ TEST(RayIntegrator, HistogramFusionCountsPointsPerClass) {
 }
 
 TEST(RayIntegrator, FreedVoxelLosesItsClassGradually) {
-  MetricMap map({kRes});
+  MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
   for (int i = 0; i < 3; ++i) integrator.integrate(map, cloud({{0.275f, 0.025f, 0.025f}}), {0.025, 0.025, 0.025});
   const int wall = static_cast<int>(ClassId::Wall);
@@ -236,7 +236,7 @@ void reference_integrate(MetricMap& map, const PointBuffer& pts, const Eigen::Ve
 TEST(RayIntegrator, OneAndTwoThreadsGiveBitIdenticalMapsEqualToTheReference) {
   testing::SyntheticRoom room;
   for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
-    MetricMapSettings ms{0.05};
+    MetricMapSettings ms = settings_at_resolution(0.05);
     ms.fusion.fusion = fusion;
     MetricMap one(ms), two(ms), reference(ms);
     RayIntegrator a, b;
