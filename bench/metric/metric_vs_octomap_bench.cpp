@@ -80,7 +80,7 @@ void BM_Sarmap(benchmark::State& state) {
   std::size_t known = 0, bytes = 0;
   sarmap::metric::RayIntegrator integrator;
   for (auto _ : state) {
-    sarmap::metric::MetricMap map(settings_at_resolution(res));
+    sarmap::metric::MetricMap map(sarmap::metric::settings_at_resolution(res));
     stats = {};
     for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
     state.PauseTiming();
