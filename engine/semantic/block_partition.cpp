@@ -54,6 +54,15 @@ BlockPartition partition_blocks(const PointBuffer& points, const BlockPartitionS
     min_y = std::min(min_y, y);
   }
   const double ox = std::floor(min_x / s) * s, oy = std::floor(min_y / s) * s;
+  double max_x = min_x, max_y = min_y;
+  for (std::size_t p = 0; p < n; ++p) {
+    max_x = std::max(max_x, static_cast<double>(points.x()[p]));
+    max_y = std::max(max_y, static_cast<double>(points.y()[p]));
+  }
+  // Cell indices must fit comfortably in long long; a scan this wide is corrupt.
+  if ((max_x - ox) / s > 1e12 || (max_y - oy) / s > 1e12) {
+    throw Error(ErrorCode::OutOfRange, "partition_blocks: the cloud spans more than 1e12 blocks");
+  }
   std::map<std::pair<long long, long long>, std::vector<std::uint32_t>> cells;  // key (j, i)
   for (std::size_t p = 0; p < n; ++p) {
     const auto [i0, i1] = cell_range(points.x()[p] - ox, s, b);

@@ -32,7 +32,6 @@ std::vector<std::uint32_t> sample_block(std::size_t count, std::size_t target, s
   if (count == 0) throw Error(ErrorCode::InvalidArgument, "sample_block: a block with no points");
   SplitMix64 rng{seed ^ (block_index * 0xD1B54A32D192ED03ULL + 0x8CB92BA72F3D8DD7ULL)};
   rng.next();
-  std::vector<std::uint32_t> out;
   if (count >= target) {
     // Partial Fisher-Yates: the first `target` slots become a uniform draw without replacement.
     std::vector<std::uint32_t> order(count);
@@ -44,7 +43,7 @@ std::vector<std::uint32_t> sample_block(std::size_t count, std::size_t target, s
     order.resize(target);
     return order;
   }
-  out.resize(target);
+  std::vector<std::uint32_t> out(target);
   std::iota(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(count), 0u);
   for (std::size_t i = count; i < target; ++i) out[i] = static_cast<std::uint32_t>(rng.below(count));
   return out;

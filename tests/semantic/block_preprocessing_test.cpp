@@ -72,6 +72,9 @@ TEST(BlockPartition, RejectsBadSettings) {
   settings.stride = 0.0;
   settings.block_size = 0.0;
   EXPECT_THROW(partition_blocks(cloud, settings), Error);
+  settings.block_size = 1.0;
+  cloud.push_back(1e30f, 0.0f, 0.0f);  // absurd span: refused, not an integer overflow
+  EXPECT_THROW(partition_blocks(cloud, settings), Error);
 }
 
 TEST(BlockSampling, MoreThanTargetIsDistinctAndDeterministic) {
