@@ -127,8 +127,8 @@ class DenseVoxelBits {
       return;
     }
     const std::int64_t total = nx_ * ny_ * nz;
-    if (total > (std::int64_t{1} << 34)) {
-      throw Error(ErrorCode::OutOfRange, "ground truth: the arena holds more than 2^34 voxels at this resolution");
+    if (total > (std::int64_t{1} << 31)) {
+      throw Error(ErrorCode::OutOfRange, "ground truth: the arena holds more than 2^31 voxels at this resolution (use a coarser one)");
     }
     words_ = std::make_unique<std::atomic<std::uint64_t>[]>(static_cast<std::size_t>((total + 63) / 64));
     word_count_ = static_cast<std::size_t>((total + 63) / 64);

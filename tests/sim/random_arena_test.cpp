@@ -33,7 +33,7 @@ double distance_to_wall(const Eigen::Vector2d& p, const WallSpec& w) {
 
 TEST(RandomArena, SeedsGiveDifferentValidArenas) {
   std::vector<std::string> texts;
-  for (std::uint64_t seed : {1u, 2u, 3u, 4u, 5u, 6u}) {
+  for (std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     SCOPED_TRACE(seed);
     texts.push_back(random_arena_json(seed));
     EXPECT_EQ(random_arena_json(seed), texts.back());
@@ -90,7 +90,7 @@ TEST(RandomArena, SeedsGiveDifferentValidArenas) {
 TEST(RandomArena, TrajectorySeesEveryRampClass) {
   const Arena a = random_arena(42);
   const Simulator sim(a, {.noise = false});
-  const GroundTruthGrid g = voxelize_arena(sim, {.resolution = 0.1, .frame_stride = 3, .ray_stride = 8});
+  const GroundTruthGrid g = voxelize_arena(sim, {.resolution = 0.1, .frame_stride = 6, .ray_stride = 12});
   const auto seen = g.occupied_per_class(true);
   EXPECT_GT(seen[static_cast<std::size_t>(ClassId::InclinedRamp)], 5u);
   EXPECT_GT(seen[static_cast<std::size_t>(ClassId::FlatRamp)], 5u);
