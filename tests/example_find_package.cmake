@@ -1,5 +1,6 @@
 # Installs the built sarmap into a scratch prefix, then configures, builds and
-# runs examples/find_package against it, as an out-of-tree front end would.
+# runs examples/find_package against it on the tiny committed sequence, as an
+# out-of-tree front end would.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${SARMAP_BUILD_DIR} --prefix ${WORK_DIR}/prefix
   RESULT_VARIABLE rc OUTPUT_QUIET)
@@ -15,8 +16,8 @@ execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIAB
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "building the example failed (${rc})")
 endif()
-execute_process(COMMAND ${WORK_DIR}/build/sarmap_example RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+execute_process(COMMAND ${WORK_DIR}/build/sarmap_example ${EXAMPLE_SEQUENCE} RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 message(STATUS "${out}")
-if(NOT rc EQUAL 0 OR NOT out MATCHES "sarmap [0-9]+\\.[0-9]+\\.[0-9]+")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "sarmap [0-9]+\\.[0-9]+\\.[0-9]+: 2 scans")
   message(FATAL_ERROR "the example did not run as expected (${rc}): ${out}")
 endif()

@@ -1,18 +1,31 @@
-// Links the installed sarmap library: builds a small cloud, moves it by a pose
-// and prints its bounds.
+// A front end outside sarmap's tree, linked against the installed package:
+// maps the sequence named on the command line and prints the stage profile
+// and the state of one voxel.
 #include <cstdio>
+#include <exception>
 
-#include "engine/core/point_buffer.hpp"
-#include "engine/core/pose.hpp"
+#include "engine/core/error.hpp"
 #include "engine/core/version.hpp"
+#include "engine/io/scan_source.hpp"
+#include "engine/pipeline/mapper.hpp"
 
-int main() {
-  sarmap::PointBuffer points;
-  points.push_back(0.f, 0.f, 0.f);
-  points.push_back(1.f, 2.f, 3.f);
-  const auto pose = sarmap::Pose::from_quaternion(0, 0, 0, 1, Eigen::Vector3d(1, 0, 0));
-  pose.apply(points);
-  const sarmap::Bounds b = points.bounds();
-  std::printf("sarmap %s: %zu points, x in [%.1f, %.1f]\n", sarmap::kVersion, points.size(), b.min.x(), b.max.x());
-  return b.min.x() == 1.0 ? 0 : 1;
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s SEQUENCE\n", argv[0]);
+    return 2;
+  }
+  try {
+    auto source = sarmap::open_scan_sequence(argv[1]);
+    sarmap::pipeline::Mapper mapper(sarmap::pipeline::MapperConfig{}, source->sensor());
+    sarmap::Scan scan;
+    while (source->next(scan)) mapper.integrate(scan);
+    const auto counts = mapper.metric_map().counts();
+    std::printf("sarmap %s: %zu scans, %zu occupied and %zu free voxels\n", sarmap::kVersion,
+                mapper.profile().scan_count(), counts.occupied, counts.free);
+    std::puts(mapper.profile().table().c_str());
+    return counts.occupied > 0 ? 0 : 1;
+  } catch (const sarmap::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
 }
