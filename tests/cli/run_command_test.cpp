@@ -1,10 +1,12 @@
 // `sarmap run` end to end on the tiny committed sequence: every output exists
-// and parses, profile.json has the documented shape, and bad input is refused.
+// and parses, profile.json has the documented shape, and bad input is refused;
+// and on a TUM folder, which needs the shared --intrinsics option.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/metric/map_file.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/io/png_test_writer.hpp"
 
 namespace sarmap {
 namespace {
@@ -104,6 +107,30 @@ TEST_F(RunCommand, UnknownClassifierIsAnError) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("dgcnn"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "run" / "map.sarmap"));
+}
+
+TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
+  fs::create_directories(dir_ / "tum/depth");
+  for (int f = 0; f < 2; ++f) {
+    test::write_png_gray16(dir_ / ("tum/depth/" + std::to_string(f) + ".png"), 2, 2, {5000, 0, 10000, 5000});
+  }
+  auto write = [this](const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  };
+  write("tum/depth.txt", "1.00 depth/0.png\n1.10 depth/1.png\n");
+  write("tum/groundtruth.txt", "1.00 0 0 0 0 0 0 1\n1.10 1 0 0 0 0 0 1\n");
+  const fs::path k = write("k.txt", "100 0 0.5\n0 100 0.5\n0 0 1\n");
+  const std::string run = "run " + quoted((dir_ / "tum").string()) + " --out " + quoted((dir_ / "out").string());
+  auto r = run_cli(run + " --quiet", dir_);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--intrinsics"), std::string::npos) << r.err;
+  // With intrinsics the frames are read; they carry no labels, and labels
+  // are the only classifier so far, so the run stops at the first scan.
+  r = run_cli(run + " --quiet --intrinsics " + quoted(k.string()), dir_);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.err.find("--intrinsics"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("depth/0.png) has no label property"), std::string::npos) << r.err;
 }
 
 }  // namespace

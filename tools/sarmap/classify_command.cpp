@@ -23,6 +23,7 @@
 #include "engine/semantic/dgcnn_model.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -30,6 +31,7 @@ namespace {
 struct ClassifyOptions {
   std::string input;
   std::size_t frame = 0;
+  SequenceInputArgs sequence;
   std::string out;
   double stride = 0.0;
   std::size_t min_points = 500;
@@ -89,7 +91,7 @@ void run_cloud(const ClassifyOptions& o) {
   settings.min_points = o.min_points;
   settings.seed = o.seed;
   const DgcnnClassifier classifier(model, settings);
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(o.input);
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
   if (o.frame >= source->size()) {
     throw Error(ErrorCode::InvalidArgument, o.input + ": --frame " + std::to_string(o.frame) + " but the sequence has " +
                                                 std::to_string(source->size()) + " frames");
@@ -116,6 +118,7 @@ void add_classify_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("classify", "Run the DGCNN semantic network");
   cmd->add_option("input", options->input, "A PLY/PCD cloud or a sequence folder to label")->check(CLI::ExistingPath);
   cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)");
+  add_sequence_input_options(cmd, options->sequence);
   cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
   cmd->add_option("--stride", options->stride, "Metres between block origins (default: the block size)");
   cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)");

@@ -19,6 +19,7 @@
 #include "engine/io/sequence_writer.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
+#include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -29,8 +30,7 @@ struct ConvertArgs {
   bool ascii = false;
   double voxel = 0.0;
   bool quiet = false;
-  std::string intrinsics;
-  double max_time_difference = 0.02;
+  SequenceInputArgs sequence;
 };
 
 // Remembers which voxels hold a point already, across every frame added.
@@ -105,10 +105,7 @@ void run_convert(const ConvertArgs& a) {
   if (std::filesystem::equivalent(in, out, ec)) {
     throw Error(ErrorCode::InvalidArgument, "convert: " + a.out + " is the input sequence itself");
   }
-  ScanSequenceOptions options;
-  if (!a.intrinsics.empty()) options.intrinsics_file = a.intrinsics;
-  options.max_time_difference = a.max_time_difference;
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(in, options);
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(in, a.sequence.options());
   ProgressLine progress("convert", source->size(), !a.quiet);
   Scan scan;
   std::size_t frames = 0;
@@ -150,12 +147,7 @@ void add_convert_command(CLI::App& app) {
   cmd->add_option("out", args->out, "Output .ply / .pcd file, or a folder for a sarmap sequence")->required();
   cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
   cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)");
-  cmd->add_option(
-      "--intrinsics", args->intrinsics,
-      "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
-  cmd->add_option("--max-time-difference", args->max_time_difference,
-                  "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
-      ->capture_default_str();
+  add_sequence_input_options(cmd, args->sequence);
   cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
   cmd->callback([args] { run_convert(*args); });
 }

@@ -16,6 +16,7 @@
 #include "engine/io/scan_source.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
+#include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -26,8 +27,7 @@ struct InfoArgs {
   std::string path;
   bool json = false;
   bool quiet = false;
-  std::string intrinsics;
-  double max_time_difference = 0.02;
+  SequenceInputArgs sequence;
 };
 
 using ClassCounts = std::array<std::size_t, kClassCount>;
@@ -142,10 +142,7 @@ std::string sensor_text(const SensorInfo& s) {
 }
 
 void sequence_info(const InfoArgs& a) {
-  ScanSequenceOptions options;
-  if (!a.intrinsics.empty()) options.intrinsics_file = a.intrinsics;
-  options.max_time_difference = a.max_time_difference;
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(a.path, options);
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(a.path, a.sequence.options());
 
   std::size_t total_points = 0, dropped = 0, frames = 0;
   Bounds bounds, positions;
@@ -195,7 +192,8 @@ void sequence_info(const InfoArgs& a) {
   std::printf("layout: %s\n", source->layout().c_str());
   std::printf("frames: %zu", frames);
   if (source->skipped_frames() > 0) {
-    std::printf(" (%zu more skipped: no pose within %g s)", source->skipped_frames(), a.max_time_difference);
+    std::printf(" (%zu more skipped: no pose within %g s)", source->skipped_frames(),
+                a.sequence.max_time_difference);
   }
   std::printf("\nsensor: %s\n", sensor_text(source->sensor()).c_str());
   std::printf("points: %zu", total_points);
@@ -218,12 +216,7 @@ void add_info_command(CLI::App& app) {
   cmd->add_option("path", args->path, "PLY / PCD file, or a sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
       ->required();
   cmd->add_flag("--json", args->json, "Machine-readable output");
-  cmd->add_option(
-      "--intrinsics", args->intrinsics,
-      "Depth-camera intrinsics for TUM / 7-Scenes: JSON {fx, fy, cx, cy} or a 3x3 matrix as text");
-  cmd->add_option("--max-time-difference", args->max_time_difference,
-                  "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
-      ->capture_default_str();
+  add_sequence_input_options(cmd, args->sequence);
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
     const std::filesystem::path path(args->path);

@@ -37,7 +37,7 @@ RunSummary run_pipeline(const RunOptions& o) {
                                                   static_cast<std::size_t>(o.threads));
   }
   const auto wall_start = std::chrono::steady_clock::now();
-  std::unique_ptr<ScanSource> source = open_scan_sequence(o.input);
+  std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
@@ -119,6 +119,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
       ->capture_default_str();
+  add_sequence_input_options(cmd, o->sequence);
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o] { run_pipeline(*o); });
 }

@@ -7,11 +7,13 @@
 
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
+#include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
 
 struct RunOptions {
   std::filesystem::path input;
+  SequenceInputArgs sequence;
   std::filesystem::path out;
   double voxel = 0.05;
   std::string classifier = "labels";
