@@ -59,4 +59,18 @@ PointBuffer read_depth_png_points(const std::filesystem::path& path, const Pinho
   }
 }
 
+Scan read_depth_png_scan(const std::filesystem::path& path, const PinholeIntrinsics& intrinsics,
+                         const DepthDecoding& decoding, const Pose& pose, double timestamp,
+                         std::size_t index) {
+  Scan scan;
+  scan.points = read_depth_png_points(path, intrinsics, decoding);
+  pose.apply(scan.points);
+  scan.pose = pose;
+  scan.origin = pose.translation();
+  scan.timestamp = timestamp;
+  scan.index = index;
+  scan.source = path.string();
+  return scan;
+}
+
 }  // namespace sarmap

@@ -3,10 +3,13 @@
 // becomes ((u - cx) d / fx, (v - cy) d / fy, d).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/pose.hpp"
+#include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
 #include "engine/io/depth_image.hpp"
 
@@ -29,5 +32,11 @@ PointBuffer back_project(const DepthImage& image, const PinholeIntrinsics& intri
 // read_depth_png + back_project, with the file named in every error.
 PointBuffer read_depth_png_points(const std::filesystem::path& path, const PinholeIntrinsics& intrinsics,
                                   const DepthDecoding& decoding);
+
+// One posed depth frame of a sequence (TUM, 7-Scenes) as a Scan: its points
+// moved into the world frame by the camera pose, rays starting at the camera.
+Scan read_depth_png_scan(const std::filesystem::path& path, const PinholeIntrinsics& intrinsics,
+                         const DepthDecoding& decoding, const Pose& pose, double timestamp,
+                         std::size_t index);
 
 }  // namespace sarmap

@@ -49,15 +49,8 @@ class SevenScenesSequence final : public ScanSource {
     if (next_ >= frames_.size()) return false;
     const SevenScenesFrame& frame = frames_[next_];
     const Pose pose = read_pose_matrix(frame.pose_file);
-    PointBuffer points = read_depth_png_points(frame.depth_file, *sensor_.intrinsics, decoding_);
-    pose.apply(points);
-    scan = Scan{};
-    scan.points = std::move(points);
-    scan.pose = pose;
-    scan.origin = pose.translation();
-    scan.timestamp = static_cast<double>(frame.number) / kSevenScenesFrameRate;
-    scan.index = next_;
-    scan.source = frame.depth_file.string();
+    scan = read_depth_png_scan(frame.depth_file, *sensor_.intrinsics, decoding_, pose,
+                               static_cast<double>(frame.number) / kSevenScenesFrameRate, next_);
     ++next_;
     return true;
   }

@@ -54,15 +54,8 @@ class TumSequence final : public ScanSource {
   bool next(Scan& scan) override {
     if (next_ >= frames_.size()) return false;
     const TumFrame& frame = frames_[next_];
-    PointBuffer points = read_depth_png_points(frame.depth_file, *sensor_.intrinsics, decoding_);
-    frame.pose.apply(points);
-    scan = Scan{};
-    scan.points = std::move(points);
-    scan.pose = frame.pose;
-    scan.origin = frame.pose.translation();
-    scan.timestamp = frame.timestamp;
-    scan.index = next_;
-    scan.source = frame.depth_file.string();
+    scan = read_depth_png_scan(frame.depth_file, *sensor_.intrinsics, decoding_, frame.pose, frame.timestamp,
+                               next_);
     ++next_;
     return true;
   }
