@@ -333,7 +333,10 @@ def main(argv):
     rnd.add_argument("--channels", type=int, default=6)
     rnd.add_argument("--classes", type=int, default=4)
     rnd.add_argument("--emb", type=int, default=1024)
-    rnd.add_argument("--block", help="also write a synthetic 4096-point block here")
+    rnd.add_argument("--k", type=int, default=20)
+    rnd.add_argument("--head", default="512,256", help="widths of conv7 and conv8")
+    rnd.add_argument("--points", type=int, default=4096, help="points per block")
+    rnd.add_argument("--block", help="also write a synthetic block of --points points here")
     args = parser.parse_args(argv)
 
     if args.command == "fixtures":
@@ -346,10 +349,13 @@ def main(argv):
         np.save(args.logits, reference_logits(model, np.load(args.block)))
     else:
         rng = np.random.default_rng(7)
-        model = DGCNNSemSeg(args.channels, args.classes, args.emb, 20)
-        block = synthetic_block(rng, 4096, 3500, (0.0, 0.0), args.channels == 9)
+        head = tuple(int(w) for w in args.head.split(","))
+        model = DGCNNSemSeg(args.channels, args.classes, args.emb, args.k, 64, head)
+        block = synthetic_block(rng, args.points, args.points * 7 // 8, (0.0, 0.0), args.channels == 9)
         randomise(model, rng, block)
         metadata = dict(DEFAULT_METADATA)
+        metadata["sarmap.k"] = str(args.k)
+        metadata["sarmap.points_per_block"] = str(args.points)
         names = ["terrain", "wall", "inclined_ramp", "flat_ramp", "other"]
         if not 1 <= args.classes <= len(names):
             parser.error(f"--classes must be 1..{len(names)}")

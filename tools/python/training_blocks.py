@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+# Training data for sarmap's DGCNN: simulates procedurally generated arenas
+# with `sarmap simulate --random SEED` (sensor noise and dropout included),
+# cuts every n-th frame into the same 1 m cells the C++ engine uses
+# (engine/semantic/block_partition.hpp: a grid fixed in the world frame,
+# cells with fewer than min_points points dropped) and stores each kept
+# block's world points and ground-truth labels.
+#
+# Features are NOT computed here: train_dgcnn.py draws the block's points
+# afresh every epoch and computes features with dgcnn_reference.block_features,
+# the one Python definition the C++ engine is tested against.
+#
+#   /usr/bin/python3 tools/python/training_blocks.py --sarmap build/release/tools/sarmap/sarmap \
+#       --seeds 1000-1059 --every 6 --out /tmp/sarmap-train/blocks.npz
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+_PLY_TYPES = {"float": "<f4", "float32": "<f4", "double": "<f8", "uchar": "u1", "uint8": "u1",
+              "int": "<i4", "uint": "<u4", "short": "<i2", "ushort": "<u2"}
+
+
+def read_ply(path):
+    """The vertex element of a binary little-endian PLY as a numpy structured array."""
+    with open(path, "rb") as f:
+        raw = f.read()
+    end = raw.index(b"end_header\n") + len(b"end_header\n")
+    header = raw[:end].decode("ascii").splitlines()
+    if "format binary_little_endian 1.0" not in header:
+        raise ValueError(f"{path}: only binary little-endian PLY is read here")
+    fields, count = [], None
+    for line in header:
+        words = line.split()
+        if words[:2] == ["element", "vertex"]:
+            count = int(words[2])
+        elif words[:1] == ["property"] and count is not None:
+            fields.append((words[2], _PLY_TYPES[words[1]]))
+    return np.frombuffer(raw, dtype=np.dtype(fields), count=count, offset=end)
+
+
+def sequence_frames(folder, every):
+    """Yields (world xyz float64 (M, 3), labels uint8 (M,)) of every `every`-th frame."""
+    with open(os.path.join(folder, "sequence.json")) as f:
+        manifest = json.load(f)
+    in_sensor_frame = manifest["points_frame"] == "sensor"
+    for i, frame in enumerate(manifest["frames"]):
+        if i % every:
+            continue
+        cloud = read_ply(os.path.join(folder, frame["file"]))
+        xyz = np.stack([cloud["x"], cloud["y"], cloud["z"]], 1).astype(np.float64)
+        keep = np.isfinite(xyz).all(1)
+        xyz, labels = xyz[keep], cloud["label"][keep]
+        if in_sensor_frame:
+            pose = np.array(frame["pose"], dtype=np.float64).reshape(4, 4)
+            xyz = xyz @ pose[:3, :3].T + pose[:3, 3]
+        yield xyz, labels
+
+
+def cells(xyz, block_size, min_points):
+    """Yields (cell origin (x0, y0), point indices) of the kept cells of a cloud."""
+    ij = np.floor(xyz[:, :2] / block_size).astype(np.int64)
+    order = np.lexsort((ij[:, 0], ij[:, 1]))
+    ij = ij[order]
+    starts = np.flatnonzero(np.r_[True, (ij[1:] != ij[:-1]).any(1)])
+    ends = np.r_[starts[1:], len(order)]
+    for s, e in zip(starts, ends):
+        if e - s >= min_points:
+            yield (ij[s, 0] * block_size, ij[s, 1] * block_size), np.sort(order[s:e])
+
+
+def collect(sarmap, seeds, every, block_size, min_points, keep_points, rng):
+    points, labels, offsets, origins, arena = [], [], [0], [], []
+    for seed in seeds:
+        with tempfile.TemporaryDirectory(prefix=f"sarmap-sim-{seed}-") as folder:
+            subprocess.run([sarmap, "simulate", "--random", str(seed), "--seed", str(seed), "--out", folder,
+                            "--quiet"], check=True)
+            blocks = 0
+            for xyz, lab in sequence_frames(folder, every):
+                for origin, idx in cells(xyz, block_size, min_points):
+                    if len(idx) > keep_points:  # a uniform subset; training draws its sample from it
+                        idx = np.sort(rng.choice(idx, keep_points, replace=False))
+                    points.append(xyz[idx].astype(np.float32))
+                    labels.append(lab[idx])
+                    offsets.append(offsets[-1] + len(idx))
+                    origins.append(origin)
+                    arena.append(seed)
+                    blocks += 1
+        print(f"arena {seed}: {blocks} blocks", flush=True)
+    return {
+        "points": np.concatenate(points), "labels": np.concatenate(labels),
+        "offsets": np.array(offsets, dtype=np.int64), "origins": np.array(origins, dtype=np.float64),
+        "arena": np.array(arena, dtype=np.int64),
+        "block_size": np.float64(block_size), "min_points": np.int64(min_points),
+    }
+
+
+def parse_seeds(text):
+    seeds = []
+    for part in text.split(","):
+        a, _, b = part.partition("-")
+        seeds.extend(range(int(a), int(b or a) + 1))
+    return seeds
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="simulate random arenas and cut them into DGCNN training blocks")
+    parser.add_argument("--sarmap", required=True, help="the sarmap executable")
+    parser.add_argument("--seeds", required=True, help="arena seeds, e.g. 1000-1059 or 1,5,9")
+    parser.add_argument("--every", type=int, default=6, help="use every n-th frame (neighbours overlap heavily)")
+    parser.add_argument("--block-size", type=float, default=1.0)
+    parser.add_argument("--min-points", type=int, default=500)
+    parser.add_argument("--keep-points", type=int, default=2048, help="points stored per block at most")
+    parser.add_argument("--out", required=True, help=".npz file to write")
+    args = parser.parse_args(argv)
+    rng = np.random.default_rng(12345)
+    data = collect(args.sarmap, parse_seeds(args.seeds), args.every, args.block_size, args.min_points,
+                   args.keep_points, rng)
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    np.savez(args.out, **data)
+    counts = np.bincount(data["labels"], minlength=6)
+    print(f"{len(data['arena'])} blocks, {len(data['labels'])} points, per class {counts.tolist()} -> {args.out}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
