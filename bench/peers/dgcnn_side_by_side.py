@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+# sarmap's DGCNN against PyTorch on the same model and block, in one run:
+# runs BM_DgcnnBlock of sarmap_semantic_bench and the PyTorch peer
+# (dgcnn_torch.py, with the allocator settings that make torch fastest here)
+# at each thread count, then prints both and the ratio.
+#
+#   /usr/bin/python3 bench/peers/dgcnn_side_by_side.py --bench build/release/bench/semantic/sarmap_semantic_bench \
+#       --model datasets/models/ramps-dgcnn.safetensors --block BLOCK.npy
+# Without --model/--block: a random full-size model and 4096-point block are made.
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.join(HERE, "..", "..")
+PEER_ENV = {"MALLOC_MMAP_MAX_": "0", "MALLOC_TRIM_THRESHOLD_": "68719476736"}
+
+
+def sarmap_ms(bench, model, block, threads, simd):
+    env = dict(os.environ, SARMAP_DGCNN_MODEL=model, SARMAP_DGCNN_BLOCK=block)
+    out = subprocess.run([bench, f"--benchmark_filter=BM_DgcnnBlock/{simd}/threads:{threads}/",
+                          "--benchmark_format=json", "--benchmark_min_time=1"],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    runs = [b for b in json.loads(out)["benchmarks"] if b.get("run_type") == "iteration"]
+    if not runs:
+        raise SystemExit(f"no BM_DgcnnBlock/{simd}/threads:{threads} result (is {simd} supported here?)")
+    return runs[0]["real_time"]  # the benchmark reports milliseconds
+
+
+def torch_run(model, block, threads):
+    env = dict(os.environ, **PEER_ENV)
+    out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "dgcnn_torch.py"), model, block,
+                          "--threads", str(threads)], env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="sarmap vs PyTorch DGCNN, side by side")
+    parser.add_argument("--bench", default=os.path.join(ROOT, "build/release/bench/semantic/sarmap_semantic_bench"))
+    parser.add_argument("--model")
+    parser.add_argument("--block")
+    parser.add_argument("--simd", default="avx512", help="sarmap's instruction set: sse4_2, avx2 or avx512")
+    parser.add_argument("--threads", default="1,2")
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        model, block = args.model, args.block
+        if not model or not block:
+            model, block = os.path.join(tmp, "model.safetensors"), os.path.join(tmp, "block.npy")
+            subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools/python/dgcnn_reference.py"), "random-model",
+                            model, "--block", block], check=True)
+        print(f"model {args.model or 'random full-size'}, block {args.block or 'synthetic 4096 points'}")
+        print("| threads | sarmap ms/block | PyTorch ms/block | speed-up | PyTorch BLAS |")
+        print("|---|---|---|---|---|")
+        for threads in (int(t) for t in args.threads.split(",")):
+            ours = sarmap_ms(args.bench, model, block, threads, args.simd)
+            peer = torch_run(model, block, threads)
+            print(f"| {threads} | {ours:.1f} | {peer['ms_per_block']:.1f} | {peer['ms_per_block'] / ours:.1f}x | "
+                  f"{', '.join(peer['blas']) or 'none found'} |", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
