@@ -24,17 +24,14 @@ metric::IntegratorSettings integrator_settings(const MapperConfig& c, const Sens
 }  // namespace
 
 Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
-    : config_(config), map_(map_settings(config)), integrator_(integrator_settings(config, sensor)) {
-  if (config.classifier != "labels") {
-    throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.classifier +
-                                                "\": the only classifier available is \"labels\" (the class of "
-                                                "each point comes from the input's label property)");
-  }
+    : config_(config),
+      map_(map_settings(config)),
+      integrator_(integrator_settings(config, sensor)),
+      classifier_(make_point_classifier(config.classifier)) {
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
   }
   semantic_points_.enable_labels();
-  semantic_points_.enable_gt_labels();
 }
 
 void Mapper::begin_scan() {
@@ -52,15 +49,20 @@ void Mapper::integrate(Scan& scan) {
     profile_.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
   }
   {
-    // "labels": the prediction is the input's label; keep it as ground truth too
-    // unless the input carries its own gt_label.
-    if (!scan.points.has_labels() && !scan.points.empty()) {
-      throw Error(ErrorCode::InvalidData, "scan " + std::to_string(scan.index) + " (" + scan.source +
-                                              ") has no label property, which --classifier labels needs");
-    }
-    if (!scan.points.has_gt_labels()) {
+    const auto timer = profile_.time("classify");
+    // The input's labels are ground truth (kept as gt_label unless the input
+    // carries its own); any classifier but "labels" then overwrites label.
+    if (scan.points.has_labels() && !scan.points.has_gt_labels()) {
       scan.points.enable_gt_labels();
       std::copy(scan.points.labels().begin(), scan.points.labels().end(), scan.points.gt_labels().begin());
+    }
+    try {
+      const ClassifyCounts counts = classifier_->classify(scan.points);
+      profile_.add_count("classify", "points", static_cast<double>(scan.points.size()));
+      profile_.add_count("classify", "blocks", static_cast<double>(counts.blocks));
+      profile_.add_count("classify", "unlabelled", static_cast<double>(counts.unlabelled));
+    } catch (const Error& e) {
+      throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
     }
   }
   {
@@ -86,16 +88,21 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
     const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
     if (semantic_keys_.insert(key).second) keep.push_back(i);
   }
+  // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);
   PointBuffer slim;
   slim.enable_labels();
-  slim.enable_gt_labels();
+  if (kept.has_gt_labels()) slim.enable_gt_labels();
   slim.resize(kept.size());
   std::copy(kept.x().begin(), kept.x().end(), slim.x().begin());
   std::copy(kept.y().begin(), kept.y().end(), slim.y().begin());
   std::copy(kept.z().begin(), kept.z().end(), slim.z().begin());
-  std::copy(kept.labels().begin(), kept.labels().end(), slim.labels().begin());
-  std::copy(kept.gt_labels().begin(), kept.gt_labels().end(), slim.gt_labels().begin());
+  if (kept.has_labels()) std::copy(kept.labels().begin(), kept.labels().end(), slim.labels().begin());
+  if (kept.has_gt_labels()) std::copy(kept.gt_labels().begin(), kept.gt_labels().end(), slim.gt_labels().begin());
+  for (std::size_t c = 0; c < kept.score_count(); ++c) {
+    const std::size_t channel = slim.add_score(kept.score_names()[c]);
+    std::copy(kept.score(c).begin(), kept.score(c).end(), slim.score(channel).begin());
+  }
   semantic_points_.append(slim);
 }
 

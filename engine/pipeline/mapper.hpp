@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <unordered_set>
 
@@ -13,6 +14,7 @@
 #include "engine/core/stage_profile.hpp"
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
+#include "engine/pipeline/point_classifier.hpp"
 
 namespace sarmap::pipeline {
 
@@ -21,9 +23,9 @@ struct MapperConfig {
   // Rays longer than this are cut (misses only); 0 takes the sequence's
   // sensor.max_range, and no limit when that is 0 too.
   double max_range = 0.0;
-  // Where point classes come from. "labels": the input's label property (the
-  // only classifier so far; the DGCNN classifier joins here).
-  std::string classifier = "labels";
+  // Where point classes come from: the DGCNN (default), the geometric
+  // baseline, or the input's label property.
+  ClassifierConfig classifier;
   metric::MetricMapSettings map;  // its resolution is replaced by `voxel`
   metric::IntegratorSettings integrator;  // its max_range is replaced as above
   // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
@@ -32,7 +34,8 @@ struct MapperConfig {
 
 class Mapper {
  public:
-  // Throws sarmap::Error (InvalidArgument) for an unknown classifier or bad settings.
+  // Throws sarmap::Error: InvalidArgument for an unknown classifier or bad
+  // settings, the model loader's errors for a bad model file.
   Mapper(const MapperConfig& config, const SensorInfo& sensor = {});
 
   // Opens the profile row of the next scan, so a caller can time its own
@@ -45,7 +48,9 @@ class Mapper {
   double max_range() const { return integrator_.settings().max_range; }
   const metric::MetricMap& metric_map() const { return map_; }
   const metric::IntegrationStats& metric_stats() const { return stats_; }
-  // Classified points kept so far (label = prediction, gt_label = input's ground truth).
+  const PointClassifier& classifier() const { return *classifier_; }
+  // Classified points kept so far: label = prediction, its per-class scores
+  // when the classifier gives them, gt_label = the input's label when it had one.
   const PointBuffer& semantic_points() const { return semantic_points_; }
   StageProfile& profile() { return profile_; }
   const StageProfile& profile() const { return profile_; }
@@ -57,6 +62,7 @@ class Mapper {
   metric::MetricMap map_;
   metric::RayIntegrator integrator_;
   metric::IntegrationStats stats_;
+  std::unique_ptr<PointClassifier> classifier_;
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;

@@ -16,7 +16,12 @@ int main(int argc, char** argv) {
   }
   try {
     auto source = sarmap::open_scan_sequence(argv[1]);
-    sarmap::pipeline::Mapper mapper(sarmap::pipeline::MapperConfig{}, source->sensor());
+    // The geometric baseline needs no model file; for the network set
+    // config.classifier.kind = "dgcnn" and config.classifier.model to a
+    // .safetensors file (sarmap ships datasets/models/ramps-dgcnn.safetensors).
+    sarmap::pipeline::MapperConfig config;
+    config.classifier.kind = "geometric";
+    sarmap::pipeline::Mapper mapper(config, source->sensor());
     sarmap::Scan scan;
     while (source->next(scan)) mapper.integrate(scan);
     const auto counts = mapper.metric_map().counts();

@@ -30,7 +30,8 @@ class DemoCommand : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   test::CliResult demo(const std::string& extra = "") {
     return run_cli(
-        "demo --arena " + quoted(arena_.string()) + " --out " + quoted(out_.string()) + " --quiet" + extra,
+        "demo --arena " + quoted(arena_.string()) + " --out " + quoted(out_.string()) + " --quiet" +
+            " --classifier labels" + extra,
         dir_);
   }
   fs::path dir_;

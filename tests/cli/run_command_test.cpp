@@ -39,7 +39,8 @@ class RunCommand : public ::testing::Test {
 TEST_F(RunCommand, WritesEveryOutput) {
   const fs::path out = dir_ / "run";
   const auto r =
-      run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1", dir_);
+      run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --classifier labels",
+              dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("2 scans, 5 points"), std::string::npos) << r.out;
 
@@ -75,10 +76,13 @@ TEST_F(RunCommand, WritesEveryOutput) {
     }
     EXPECT_LE(stage.at("p50_s").get<double>(), stage.at("max_s").get<double>()) << name;
   }
-  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "metric"}));
+  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "classify", "metric"}));
   const auto& pre = profile.at("stages").at("preprocess");
   EXPECT_EQ(pre.at("points_in").get<double>(), 5.0);
   EXPECT_EQ(pre.at("points_out").get<double>(), 5.0);
+  const auto& classify = profile.at("stages").at("classify");
+  EXPECT_EQ(classify.at("points").get<double>(), 5.0);
+  EXPECT_EQ(classify.at("unlabelled").get<double>(), 0.0);
   const auto& metric = profile.at("stages").at("metric");
   EXPECT_EQ(metric.at("points_in").get<double>(), 5.0);
   EXPECT_GT(metric.at("rays").get<double>(), 0.0);
@@ -87,7 +91,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
   ASSERT_EQ(profile.at("per_scan").size(), 2u);
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
-  EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "metric_s"}));
+  EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s"}));
 }
 
 TEST_F(RunCommand, MissingInputIsAnError) {
@@ -99,14 +103,38 @@ TEST_F(RunCommand, MissingInputIsAnError) {
   EXPECT_FALSE(fs::exists(dir_ / "run" / "map.sarmap"));
 }
 
-// Until the DGCNN classifier joins the pipeline, asking for it is refused by name.
 TEST_F(RunCommand, UnknownClassifierIsAnError) {
   const auto r = run_cli(
-      "run " + quoted(input_.string()) + " --out " + quoted((dir_ / "run").string()) + " --classifier dgcnn",
+      "run " + quoted(input_.string()) + " --out " + quoted((dir_ / "run").string()) + " --classifier oracle",
       dir_);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("dgcnn"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("oracle"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("geometric"), std::string::npos) << r.err;  // the message lists the choices
   EXPECT_FALSE(fs::exists(dir_ / "run" / "map.sarmap"));
+}
+
+TEST_F(RunCommand, MissingModelIsAnErrorThatNamesTheFile) {
+  const fs::path model = dir_ / "no_such_model.safetensors";
+  const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted((dir_ / "run").string()) +
+                             " --model " + quoted(model.string()),
+                         dir_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no_such_model.safetensors"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run" / "map.sarmap"));
+}
+
+TEST_F(RunCommand, GeometricBaselineNeedsNoModel) {
+  const fs::path out = dir_ / "run";
+  const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) +
+                             " --voxel 0.1 --classifier geometric --model /nonexistent.safetensors --quiet",
+                         dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto manifest = nlohmann::json::parse(test::read_all(out / "manifest.json"));
+  EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "geometric");
+  EXPECT_FALSE(manifest.at("settings").contains("model"));
+  const PointBuffer semantic = read_point_cloud(out / "semantic_points.ply");
+  EXPECT_EQ(semantic.size(), 5u);
+  EXPECT_TRUE(semantic.has_gt_labels());  // the input's labels are kept as ground truth
 }
 
 TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
@@ -125,12 +153,15 @@ TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
   auto r = run_cli(run + " --quiet", dir_);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--intrinsics"), std::string::npos) << r.err;
-  // With intrinsics the frames are read; they carry no labels, and labels
-  // are the only classifier so far, so the run stops at the first scan.
-  r = run_cli(run + " --quiet --intrinsics " + quoted(k.string()), dir_);
+  // With intrinsics the frames are read; they carry no labels, so the labels
+  // classifier stops at the first scan, naming it; the baseline maps them.
+  r = run_cli(run + " --quiet --classifier labels --intrinsics " + quoted(k.string()), dir_);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(r.err.find("--intrinsics"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("depth/0.png) has no label property"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("depth/0.png): the input has no label property"), std::string::npos) << r.err;
+  r = run_cli(run + " --quiet --classifier geometric --intrinsics " + quoted(k.string()), dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(read_point_cloud(dir_ / "out" / "semantic_points.ply").has_gt_labels());
 }
 
 }  // namespace

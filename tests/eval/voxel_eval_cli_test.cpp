@@ -17,7 +17,7 @@ TEST(VoxelEvalCli, FiguresOfASimulatedRun) {
   const std::string seq = (dir / "seq").string(), run = (dir / "run").string();
   auto r = testing::run_cli("simulate " + arena + " --out " + seq + " --quiet", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = testing::run_cli("run " + seq + " --out " + run + " --voxel 0.1 --quiet", dir);
+  r = testing::run_cli("run " + seq + " --out " + run + " --voxel 0.1 --classifier labels --quiet", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = testing::run_cli("eval --arena " + arena + " --run " + run + " --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -51,7 +51,7 @@ TEST(VoxelEvalCli, FiguresOfASimulatedRun) {
   ASSERT_EQ(
       testing::run_cli("simulate " + arena + " --out " + part_seq + " --frames 2 --quiet", dir).exit_code, 0);
   ASSERT_EQ(
-      testing::run_cli("run " + part_seq + " --out " + part_run + " --voxel 0.1 --quiet", dir).exit_code, 0);
+      testing::run_cli("run " + part_seq + " --out " + part_run + " --voxel 0.1 --classifier labels --quiet", dir).exit_code, 0);
   r = testing::run_cli("eval --arena " + arena + " --run " + part_run + " --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto part = nlohmann::json::parse(r.out);

@@ -17,6 +17,7 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   MapperConfig config;
   config.voxel = 0.1;
   config.semantic_points_voxel = 0.1;
+  config.classifier.kind = "labels";
   SensorInfo sensor;
   sensor.max_range = 4.0;
   Mapper mapper(config, sensor);
@@ -36,6 +37,7 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   EXPECT_EQ(p.scan_count(), 3u);
   EXPECT_DOUBLE_EQ(p.counter("preprocess", "points_in"), static_cast<double>(points));
   EXPECT_DOUBLE_EQ(p.counter("preprocess", "points_out"), static_cast<double>(points - 3));
+  EXPECT_DOUBLE_EQ(p.counter("classify", "points"), static_cast<double>(points - 3));
   EXPECT_GT(p.counter("metric", "rays"), 0.0);
   EXPECT_GT(p.counter("metric", "voxel_visits"), p.counter("metric", "rays"));
   EXPECT_GT(mapper.metric_map().counts().occupied, 100u);
@@ -52,14 +54,48 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   EXPECT_LT(kept.size(), points / 4);
 }
 
-TEST(Mapper, RejectsUnknownClassifiersAndUnlabelledInput) {
+TEST(Mapper, GeometricClassifierLabelsAndKeepsGroundTruth) {
   MapperConfig config;
-  config.classifier = "dgcnn";
-  EXPECT_THROW(Mapper{config}, Error);
-  Mapper mapper(MapperConfig{});
+  config.voxel = 0.1;
+  config.semantic_points_voxel = 0.1;
+  config.classifier.kind = "geometric";
+  Mapper mapper(config);
+  EXPECT_EQ(mapper.classifier().name(), "geometric");
+  testing::SyntheticRoom room;
+  auto r = room.frame(0, 1, 160, 120);
+  Scan scan;
+  scan.points = r.points;
+  scan.origin = r.origin;
+  mapper.integrate(scan);
+  // The input's labels survive as ground truth, the predictions are the baseline's own.
+  const PointBuffer& kept = mapper.semantic_points();
+  ASSERT_GT(kept.size(), 100u);
+  ASSERT_TRUE(kept.has_gt_labels());
+  std::size_t labelled = 0;
+  for (std::size_t i = 0; i < kept.size(); ++i) labelled += kept.labels()[i] != 0;
+  EXPECT_GT(labelled, kept.size() / 2);
+}
+
+TEST(Mapper, RejectsBadClassifiersAndUnlabelledInput) {
+  MapperConfig bogus;
+  bogus.classifier.kind = "oracle";
+  EXPECT_THROW(Mapper{bogus}, Error);
+  MapperConfig no_model;  // dgcnn is the default and needs a model file
+  EXPECT_THROW(Mapper{no_model}, Error);
+  MapperConfig missing;
+  missing.classifier.model = "/nonexistent/model.safetensors";
+  EXPECT_THROW(Mapper{missing}, Error);
+  MapperConfig labels;
+  labels.classifier.kind = "labels";
+  Mapper mapper(labels);
   Scan scan;
   scan.points.push_back(1, 1, 1);
-  EXPECT_THROW(mapper.integrate(scan), Error);
+  try {
+    mapper.integrate(scan);
+    FAIL() << "an unlabelled scan must be refused by the labels classifier";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("label"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

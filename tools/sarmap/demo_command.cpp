@@ -17,6 +17,7 @@
 #include "tools/sarmap/demo_sequence_cache.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
+#include "tools/sarmap/shipped_data.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -28,10 +29,10 @@ struct DemoArgs {
   std::string arena;  // empty: the built-in default arena
   std::uint64_t seed = 0;
   int threads = 0;
+  std::string classifier = "dgcnn";
+  std::string model;  // empty: the shipped ramp model
   bool quiet = false;
 };
-
-fs::path default_arena() { return fs::path(SARMAP_SOURCE_DIR) / "datasets" / "arenas" / "esogu-6x4.json"; }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -66,7 +67,7 @@ bool simulate_if_needed(const sim::Arena& arena, const fs::path& arena_file, con
 
 void run_demo(const DemoArgs& a) {
   const auto start = std::chrono::steady_clock::now();
-  const fs::path arena_file = a.arena.empty() ? default_arena() : fs::path(a.arena);
+  const fs::path arena_file = a.arena.empty() ? shipped_default_arena() : fs::path(a.arena);
   const fs::path out = a.out;
   if (out.empty()) throw Error(ErrorCode::InvalidArgument, "demo: --out DIR must not be empty");
   const sim::Arena arena = sim::load_arena(arena_file);
@@ -84,6 +85,8 @@ void run_demo(const DemoArgs& a) {
   run.input = sequence;
   run.out = run_dir;
   run.threads = a.threads;
+  run.classifier = a.classifier;
+  run.model = a.model;
   run.quiet = true;  // the demo prints its own summary
   const RunSummary summary = run_pipeline(run);
 
@@ -139,6 +142,9 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--arena", args->arena, "Arena description instead of datasets/arenas/esogu-6x4.json");
   cmd->add_option("--seed", args->seed, "Seed of the simulated sensor noise")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--classifier", args->classifier, "dgcnn, geometric or labels (as for sarmap run)")
+      ->capture_default_str();
+  cmd->add_option("--model", args->model, "DGCNN weights instead of datasets/models/ramps-dgcnn.safetensors");
   cmd->add_flag("--quiet", args->quiet, "No progress lines; the summary is still printed");
   cmd->callback([args] { run_demo(*args); });
 }

@@ -1,5 +1,5 @@
-// `sarmap run INPUT --out DIR`: builds the maps scan by scan through the
-// pipeline's Mapper and writes map.sarmap, map.bt, voxels.ply,
+// `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
+// builds the maps scan by scan through the pipeline's Mapper and writes map.sarmap, map.bt, voxels.ply,
 // semantic_points.ply, manifest.json and profile.json, each atomically.
 #include <chrono>
 #include <cstdio>
@@ -22,6 +22,7 @@
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
+#include "tools/sarmap/shipped_data.hpp"
 
 namespace sarmap::cli {
 
@@ -41,7 +42,15 @@ RunSummary run_pipeline(const RunOptions& o) {
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
-  config.classifier = o.classifier;
+  config.classifier.kind = o.classifier;
+  if (o.classifier == "dgcnn") {
+    config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
+    if (!fs::exists(config.classifier.model)) {
+      throw Error(ErrorCode::Io, "run: model file " + config.classifier.model.string() +
+                                     " not found (give --model M.safetensors, or --classifier geometric for "
+                                     "the baseline that needs no model)");
+    }
+  }
   config.semantic_points_voxel = o.voxel;
   pipeline::Mapper mapper(config, source->sensor());
   fs::create_directories(o.out);
@@ -71,13 +80,14 @@ RunSummary run_pipeline(const RunOptions& o) {
   manifest["input"] = fs::absolute(o.input).string();
   manifest["layout"] = source->layout();
   manifest["scans"] = scans;
-  manifest["settings"] = {{"voxel", o.voxel},
-                          {"classifier", o.classifier},
-                          {"threads", o.threads},
+  manifest["settings"]["voxel"] = o.voxel;
+  manifest["settings"]["classifier"] = o.classifier;
+  if (o.classifier == "dgcnn") manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
+  manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
                                                ? "bayesian"
-                                               : "histogram"}};
+                                               : "histogram"}});
   manifest["outputs"] = {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "profile.json"};
   {
     AtomicFileWriter w(o.out / "manifest.json");
@@ -113,8 +123,10 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Output folder")->required();
   cmd->add_option("--voxel", o->voxel, "Metric map voxel size in metres")->capture_default_str();
   cmd->add_option("--classifier", o->classifier,
-                  "Where point classes come from: labels (the input's label property)")
+                  "Where point classes come from: dgcnn (the network), geometric (normal-based baseline, "
+                  "no model) or labels (the input's label property)")
       ->capture_default_str();
+  cmd->add_option("--model", o->model, "DGCNN weights (default datasets/models/ramps-dgcnn.safetensors)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")

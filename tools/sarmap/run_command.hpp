@@ -16,7 +16,8 @@ struct RunOptions {
   SequenceInputArgs sequence;
   std::filesystem::path out;
   double voxel = 0.05;
-  std::string classifier = "labels";
+  std::string classifier = "dgcnn";  // dgcnn | geometric | labels
+  std::filesystem::path model;        // dgcnn; empty: the shipped ramp model
   int threads = 0;
   double max_range = 0.0;
   bool quiet = false;

@@ -1,0 +1,80 @@
+#include "engine/pipeline/point_classifier.hpp"
+
+#include <algorithm>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/semantic/dgcnn_model.hpp"
+
+namespace sarmap::pipeline {
+
+namespace {
+
+std::size_t count_unknown(const PointBuffer& points) {
+  return static_cast<std::size_t>(std::count(points.labels().begin(), points.labels().end(),
+                                             static_cast<std::uint8_t>(ClassId::Unknown)));
+}
+
+class LabelsClassifier final : public PointClassifier {
+ public:
+  std::string_view name() const override { return "labels"; }
+  ClassifyCounts classify(PointBuffer& points) const override {
+    if (!points.has_labels() && !points.empty()) {
+      throw Error(ErrorCode::InvalidData, "the input has no label property, which --classifier labels needs");
+    }
+    ClassifyCounts counts;
+    if (points.has_labels()) counts.unlabelled = count_unknown(points);
+    return counts;
+  }
+};
+
+class GeometricPointClassifier final : public PointClassifier {
+ public:
+  explicit GeometricPointClassifier(const GeometricClassifierSettings& settings) : classifier_(settings) {}
+  std::string_view name() const override { return "geometric"; }
+  ClassifyCounts classify(PointBuffer& points) const override {
+    classifier_.classify(points);
+    ClassifyCounts counts;
+    counts.unlabelled = count_unknown(points);
+    return counts;
+  }
+
+ private:
+  GeometricClassifier classifier_;
+};
+
+class DgcnnPointClassifier final : public PointClassifier {
+ public:
+  DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings)
+      : model_(DgcnnModel::load(model)), classifier_(model_, settings) {}
+  std::string_view name() const override { return "dgcnn"; }
+  ClassifyCounts classify(PointBuffer& points) const override {
+    const DgcnnClassifyStats stats = classifier_.classify(points);
+    ClassifyCounts counts;
+    counts.blocks = stats.blocks;
+    counts.unlabelled = count_unknown(points);
+    return counts;
+  }
+
+ private:
+  DgcnnModel model_;  // declared before classifier_, which keeps a reference to it
+  DgcnnClassifier classifier_;
+};
+
+}  // namespace
+
+std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& config) {
+  if (config.kind == "labels") return std::make_unique<LabelsClassifier>();
+  if (config.kind == "geometric") return std::make_unique<GeometricPointClassifier>(config.geometric);
+  if (config.kind == "dgcnn") {
+    if (config.model.empty()) {
+      throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
+    }
+    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn);
+  }
+  throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.kind +
+                                              "\": choose dgcnn (the network), geometric (the normal-based "
+                                              "baseline) or labels (the input's label property)");
+}
+
+}  // namespace sarmap::pipeline

@@ -1,0 +1,46 @@
+// The classify stage: where each point's class comes from. One interface over
+// the three sources a run can choose:
+//   dgcnn      the network (a safetensors model) — the default
+//   geometric  the normal- and height-based baseline, no model needed
+//   labels     the input's own label property (simulated or annotated data)
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/semantic/dgcnn_classifier.hpp"
+#include "engine/semantic/geometric_classifier.hpp"
+
+namespace sarmap::pipeline {
+
+struct ClassifierConfig {
+  std::string kind = "dgcnn";  // dgcnn | geometric | labels
+  std::filesystem::path model;  // dgcnn only; required for it
+  DgcnnClassifierSettings dgcnn;
+  GeometricClassifierSettings geometric;
+};
+
+// What one call did, for the profile's counters.
+struct ClassifyCounts {
+  std::size_t blocks = 0;          // dgcnn blocks run
+  std::size_t unlabelled = 0;      // points left unknown (sparse blocks, far points)
+};
+
+class PointClassifier {
+ public:
+  virtual ~PointClassifier() = default;
+  virtual std::string_view name() const = 0;
+  // Sets points.labels() to predicted class ids (and per-class scores where the
+  // classifier has them). Throws sarmap::Error naming what the input lacks.
+  virtual ClassifyCounts classify(PointBuffer& points) const = 0;
+};
+
+// Throws sarmap::Error: InvalidArgument for an unknown kind or a dgcnn without
+// a model path; the model loader's errors for a bad model file.
+std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& config);
+
+}  // namespace sarmap::pipeline
