@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+# The per-point accuracy table of sarmap's classifiers on held-out arenas:
+# simulates each arena (random arenas from seeds never used in training, plus
+# the shipped arenas), runs `sarmap run` with each classifier and scores the
+# run with `sarmap eval`, then prints per-class IoU per arena and overall and
+# the overall confusion matrices, as Markdown.
+#
+#   /usr/bin/python3 tools/python/eval_classifiers.py --sarmap build/release/tools/sarmap/sarmap \
+#       --work /tmp/sarmap-eval --random 9001-9005 --arena datasets/arenas/esogu-6x4.json \
+#       --arena datasets/arenas/building-52x15.json --every 4
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+
+CLASSES = ["unknown", "terrain", "wall", "inclined_ramp", "flat_ramp", "other"]
+MAPPING = CLASSES[1:5]  # the four mapping classes the mean IoU is taken over
+
+
+def run(cmd):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+
+
+def thin_sequence(folder, every):
+    """Keeps every n-th frame of a simulated sequence (neighbouring frames overlap heavily)."""
+    path = os.path.join(folder, "sequence.json")
+    with open(path) as f:
+        manifest = json.load(f)
+    kept = manifest["frames"][::every]
+    for frame in manifest["frames"]:
+        if frame not in kept:
+            os.remove(os.path.join(folder, frame["file"]))
+    manifest["frames"] = kept
+    with open(path, "w") as f:
+        json.dump(manifest, f, indent=1)
+
+
+def simulate(sarmap, work, name, arena_json, seed, every):
+    """Returns (arena JSON path, sequence folder); cached in WORK."""
+    folder = os.path.join(work, name, "sequence")
+    arena_path = arena_json or os.path.join(work, name, "arena.json")
+    if not os.path.exists(os.path.join(folder, "sequence.json")):
+        shutil.rmtree(folder, ignore_errors=True)
+        os.makedirs(os.path.dirname(folder), exist_ok=True)
+        cmd = [sarmap, "simulate", "--out", folder, "--quiet", "--seed", "7"]
+        cmd += ["--random", str(seed), "--write-arena", arena_path] if arena_json is None else [arena_json]
+        run(cmd)
+        thin_sequence(folder, every)
+    return arena_path, folder
+
+
+def evaluate(sarmap, work, name, arena_path, folder, classifier, model, threads):
+    out = os.path.join(work, name, classifier)
+    cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
+    if classifier == "dgcnn" and model:
+        cmd += ["--model", model]
+    run(cmd)
+    result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
+    with open(os.path.join(out, "profile.json")) as f:
+        profile = json.load(f)
+    classify = profile["stages"].get("classify", {})
+    return np.array(result["confusion"]["matrix"], dtype=np.int64), classify.get("mean_s")
+
+
+def ious(conf):
+    tp = np.diag(conf).astype(np.float64)
+    denom = conf.sum(0) + conf.sum(1) - tp
+    return {c: (tp[i] / denom[i] if denom[i] > 0 else None) for i, c in enumerate(CLASSES) if i > 0}
+
+
+def mean_iou(per_class):
+    values = [per_class[c] for c in MAPPING if per_class[c] is not None]
+    return sum(values) / len(values) if values else None
+
+
+def pct(v):
+    return "–" if v is None else f"{100 * v:.1f}"
+
+
+def parse_seeds(text):
+    seeds = []
+    for part in text.split(","):
+        a, _, b = part.partition("-")
+        seeds.extend(range(int(a), int(b or a) + 1))
+    return seeds
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="per-point classifier accuracy on held-out arenas")
+    parser.add_argument("--sarmap", required=True)
+    parser.add_argument("--work", required=True, help="folder for sequences and runs (sequences are cached)")
+    parser.add_argument("--random", default="", help="seeds of generated arenas, e.g. 9001-9005")
+    parser.add_argument("--arena", action="append", default=[], help="arena JSON files")
+    parser.add_argument("--classifier", action="append", default=None, help="default: dgcnn and geometric")
+    parser.add_argument("--model", help="DGCNN model (default: the shipped one)")
+    parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args(argv)
+    classifiers = args.classifier or ["dgcnn", "geometric"]
+    arenas = [(f"random-{s}", None, s) for s in parse_seeds(args.random)] if args.random else []
+    arenas += [(os.path.splitext(os.path.basename(a))[0], os.path.abspath(a), None) for a in args.arena]
+
+    totals = {c: np.zeros((len(CLASSES), len(CLASSES)), dtype=np.int64) for c in classifiers}
+    rows = []
+    for name, arena_json, seed in arenas:
+        arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every)
+        for classifier in classifiers:
+            conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
+                                        args.threads)
+            totals[classifier] += conf
+            rows.append((name, classifier, ious(conf), classify_s))
+            print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)
+
+    header = "| arena | classifier | " + " | ".join(CLASSES[1:]) + " | mean IoU (4 mapping classes) | classify s/scan |"
+    print(header)
+    print("|" + "---|" * (len(CLASSES) + 3))
+    for name, classifier, per_class, classify_s in rows + [("**all**", c, ious(totals[c]), None) for c in classifiers]:
+        cells = " | ".join(pct(per_class[c]) for c in CLASSES[1:])
+        seconds = "" if classify_s is None else f"{classify_s:.3f}"
+        print(f"| {name} | {classifier} | {cells} | {pct(mean_iou(per_class))} | {seconds} |")
+    for classifier in classifiers:
+        conf = totals[classifier]
+        print(f"\nConfusion, {classifier}, all arenas (rows ground truth, columns prediction, % of the row):\n")
+        print("| truth \\ predicted | " + " | ".join(CLASSES) + " |")
+        print("|" + "---|" * (len(CLASSES) + 1))
+        for i, c in enumerate(CLASSES):
+            total = conf[i].sum()
+            if total == 0:
+                continue
+            print(f"| {c} | " + " | ".join(f"{100 * v / total:.1f}" for v in conf[i]) + " |")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
