@@ -84,8 +84,14 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         for (int r = 0; r < R; ++r) {
           const B t(threshold[r]);
           const float* tmp = tile[r];
-          if (!xsimd::any((B::load_aligned(tmp) < t) || (B::load_aligned(tmp + L) < t))) continue;
-          for (std::size_t l = 0; l < NR; ++l) {
+          // Visit only the lanes under the threshold, in index order (which
+          // keeps ties going to the smaller index); each insertion may lower
+          // the threshold for the lanes after it.
+          std::uint64_t below = lane_mask<Arch>(B::load_aligned(tmp) < t) |
+                                (std::uint64_t{lane_mask<Arch>(B::load_aligned(tmp + L) < t)} << L);
+          while (below != 0) {
+            const std::size_t l = static_cast<std::size_t>(__builtin_ctzll(below));
+            below &= below - 1;
             const std::size_t col = p * NR + l;
             if (tmp[l] < threshold[r] && col < q.count) {
               insert_sorted(best_d[r], best_i[r], found[r], keep, tmp[l], static_cast<std::uint32_t>(col));

@@ -6,11 +6,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <type_traits>
 
 #include <xsimd/xsimd.hpp>
 
-#if defined(__AVX512F__)
+#if defined(__SSE2__)
 #include <immintrin.h>
 #endif
 
@@ -70,6 +71,35 @@ inline void with_rows(int rows, F&& f) {
     } else {
       with_rows<R - 1>(rows, f);
     }
+  }
+}
+
+// One bit per lane of a comparison (lane i -> bit i): lets a selection loop
+// visit only the lanes that passed (xsimd 8.1 has no batch_bool::mask()).
+template <class Arch>
+inline std::uint32_t lane_mask(const xsimd::batch_bool<float, Arch>& b) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    return static_cast<std::uint32_t>(static_cast<__mmask16>(b));
+  } else
+#endif
+#if defined(__AVX__)
+  if constexpr (std::is_base_of_v<xsimd::avx, Arch>) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(b));
+  } else
+#endif
+#if defined(__SSE2__)
+  if constexpr (std::is_base_of_v<xsimd::sse2, Arch>) {
+    return static_cast<std::uint32_t>(_mm_movemask_ps(b));
+  } else
+#endif
+  {
+    constexpr std::size_t L = Batch<Arch>::size;
+    alignas(64) bool lanes[L];
+    b.store_aligned(lanes);
+    std::uint32_t m = 0;
+    for (std::size_t i = 0; i < L; ++i) m |= static_cast<std::uint32_t>(lanes[i]) << i;
+    return m;
   }
 }
 
