@@ -2,8 +2,9 @@
 // instruction set by knn_{sse42,avx2,avx512}.cpp. Distances are ranked as
 // |b|^2 - 2 a.b (|a|^2 is the same for a whole row), computed a register tile
 // at a time like a GEMM, so the N x N matrix never exists; each row keeps its
-// k best in a small sorted list and a vector compare against the current k-th
-// distance skips almost every tile without touching the list. The list keeps
+// k best in a small sorted list (inserted into a vector at a time, without
+// branches) and a vector compare against the current k-th distance skips
+// most of a tile without touching the list. The list keeps
 // kKnnExtra more candidates than k, and the final k are chosen among them by
 // exact distances (double, the reference's arithmetic), so the neighbours do
 // not depend on the instruction set's rounding.
@@ -11,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "kernels/knn_args.hpp"
@@ -20,19 +22,40 @@
 namespace sarmap::kernels {
 namespace {
 
-// Inserts (dist, id) into the ascending list d/ids of n <= k entries. Equal
-// distances keep their arrival order, which is index order: ties go to the
-// smaller index.
-inline void insert_sorted(float* d, std::uint32_t* ids, std::size_t& n, std::size_t k, float dist, std::uint32_t id) {
-  std::size_t pos = n < k ? n : k - 1;
-  while (pos > 0 && d[pos - 1] > dist) {
-    d[pos] = d[pos - 1];
-    ids[pos] = ids[pos - 1];
-    --pos;
+// Inserts x into the ascending list d of `chunks` vectors (padded with +inf;
+// d[-1] is a -inf sentinel) after any entries equal to it, shifting the
+// greater ones up a slot; the last falls off. Branch-free, a vector at a time,
+// from the top down so each vector reads its unshifted predecessor. Equal
+// distances thus keep their arrival order, which is index order: ties go to
+// the smaller index. ids moves alongside: index bits kept in float lanes,
+// only ever blended, never computed with.
+template <class Arch>
+inline void insert_sorted(float* d, float* ids, std::size_t chunks, float x, float id_bits) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  const B xv(x), iv(id_bits);
+  for (std::size_t c = chunks; c-- > 0;) {
+    float* dc = d + c * L;
+    float* ic = ids + c * L;
+    const B cur = B::load_aligned(dc), prev = B::load_unaligned(dc - 1);
+    const auto shift = prev > xv;
+    const auto place = (cur > xv) && !shift;
+    xsimd::select(shift, prev, xsimd::select(place, xv, cur)).store_aligned(dc);
+    const B icur = B::load_aligned(ic), iprev = B::load_unaligned(ic - 1);
+    xsimd::select(shift, iprev, xsimd::select(place, iv, icur)).store_aligned(ic);
   }
-  d[pos] = dist;
-  ids[pos] = id;
-  if (n < k) ++n;
+}
+
+inline float id_as_float(std::uint32_t id) {
+  float f;
+  std::memcpy(&f, &id, sizeof f);
+  return f;
+}
+
+inline std::uint32_t id_of(float f) {
+  std::uint32_t id;
+  std::memcpy(&id, &f, sizeof id);
+  return id;
 }
 
 template <class Arch>
@@ -48,7 +71,12 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   alignas(64) float a_scaled[MR * kKnnMaxDim];
   constexpr std::size_t kSlots = kKnnMaxK + kKnnExtra;
   const std::size_t keep = k + kKnnExtra < q.count ? k + kKnnExtra : q.count;
-  float best_d[MR][kSlots];
+  // Per row: the sorted candidate list, a vector of sentinel in front and
+  // whole vectors of slots.
+  constexpr std::size_t kListLanes = (kSlots + L - 1) / L * L;
+  const std::size_t chunks = (keep + L - 1) / L;
+  alignas(64) float list_d[MR][L + kListLanes];
+  alignas(64) float list_i[MR][L + kListLanes];
   std::uint32_t best_i[MR][kSlots];
   double exact[kSlots];
   std::size_t found[MR];
@@ -63,6 +91,8 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         for (std::size_t c = 0; c < dim; ++c) a_scaled[r * dim + c] = -2.0f * (src[c] - q.centre[c]);
         found[r] = 0;
         threshold[r] = kInf;
+        list_d[r][L - 1] = -kInf;
+        for (std::size_t j = L; j < L + kListLanes; ++j) list_d[r][j] = kInf;
       }
       for (std::size_t p = 0; p < panel_count; ++p) {
         B acc[R][2];
@@ -94,13 +124,16 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
             below &= below - 1;
             const std::size_t col = p * NR + l;
             if (tmp[l] < threshold[r] && col < q.count) {
-              insert_sorted(best_d[r], best_i[r], found[r], keep, tmp[l], static_cast<std::uint32_t>(col));
-              if (found[r] == keep) threshold[r] = best_d[r][keep - 1];
+              insert_sorted<Arch>(list_d[r] + L, list_i[r] + L, chunks, tmp[l],
+                                  id_as_float(static_cast<std::uint32_t>(col)));
+              if (found[r] < keep) ++found[r];
+              threshold[r] = list_d[r][L + keep - 1];  // +inf until the list is full
             }
           }
         }
       }
       for (int r = 0; r < R; ++r) {
+        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = id_of(list_i[r][L + c]);
         // Re-rank the candidates by exact distance, ties by index.
         const float* self = q.points + (row + r) * q.stride;
         std::size_t n = 0;
