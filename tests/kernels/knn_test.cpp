@@ -62,6 +62,22 @@ TEST(Knn, RandomPointsMatchReference) {
   }
 }
 
+// The candidate list spans several vectors (k 64 keeps 72) or a single slot.
+TEST(Knn, SmallestAndLargestKMatchReference) {
+  const std::size_t n = 400, dim = 3;
+  const auto p = test::random_floats(n * dim, 21);
+  for (std::size_t k : {std::size_t{1}, std::size_t{7}, kKnnMaxK}) {
+    std::vector<std::uint32_t> ref(n * k);
+    knn_reference(p.data(), dim, n, dim, k, ref.data());
+    for (SimdLevel level : test::supported_levels()) {
+      KnnWorkspace ws;
+      std::vector<std::uint32_t> got(n * k);
+      knn(p.data(), dim, n, dim, k, level, ws, got.data());
+      EXPECT_EQ(got, ref) << "k " << k;
+    }
+  }
+}
+
 TEST(Knn, StridedInputUsesOnlyTheGivenChannels) {
   // 6 channels per point, kNN over the last three (as DGCNN's first layer).
   const std::size_t n = 300, k = 16;
