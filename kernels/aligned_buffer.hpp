@@ -41,6 +41,8 @@ class AlignedBuffer {
   T* data() { return data_.get(); }
   const T* data() const { return data_.get(); }
   std::size_t size() const { return size_; }
+  // Bytes held, which may exceed size() elements after a shrink.
+  std::size_t capacity_bytes() const { return capacity_ * sizeof(T); }
   T& operator[](std::size_t i) { return data_[i]; }
   const T& operator[](std::size_t i) const { return data_[i]; }
 

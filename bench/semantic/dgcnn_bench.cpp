@@ -81,6 +81,7 @@ void BM_DgcnnBlock(benchmark::State& state, SimdLevel level) {
   }
   state.counters["global_ms"] = 1e3 * sum.global / it;
   state.counters["head_ms"] = 1e3 * sum.head / it;
+  state.counters["workspace_MiB"] = static_cast<double>(ws.bytes()) / (1024.0 * 1024.0);
 }
 
 BENCHMARK_CAPTURE(BM_DgcnnBlock, sse4_2, SimdLevel::Sse42)->ArgName("threads")->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();

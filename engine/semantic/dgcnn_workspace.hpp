@@ -19,6 +19,14 @@ struct DgcnnWorkspace {
   kernels::AlignedBuffer<float> head_bias;          // conv7's bias plus its global share
   kernels::AlignedBuffer<float> head1;              // n x H1
   kernels::AlignedBuffer<float> head2;              // n x H2
+
+  // Bytes held by every buffer: a forward pass's working set besides the
+  // weights (benchmarks report it per block size).
+  std::size_t bytes() const {
+    return knn.panels.capacity_bytes() + knn.norms.capacity_bytes() + knn.centre.capacity_bytes() +
+           neighbours.capacity_bytes() + edge_terms.capacity_bytes() + local.capacity_bytes() +
+           global.capacity_bytes() + head_bias.capacity_bytes() + head1.capacity_bytes() + head2.capacity_bytes();
+  }
 };
 
 // Wall-clock seconds of each stage of the last forward pass (benchmarks).

@@ -92,6 +92,33 @@ TEST(DgcnnModel, FewerPointsThanKStillRuns) {
   for (float v : logits) EXPECT_TRUE(std::isfinite(v));
 }
 
+// Every buffer's address, to see that a second block of the same size
+// allocated nothing (a grow-only buffer that grew would have moved).
+std::vector<const void*> buffer_addresses(const DgcnnWorkspace& ws) {
+  return {ws.knn.panels.data(), ws.knn.norms.data(), ws.knn.centre.data(), ws.neighbours.data(),
+          ws.edge_terms.data(), ws.local.data(),     ws.global.data(),      ws.head_bias.data(),
+          ws.head1.data(),      ws.head2.data()};
+}
+
+TEST(DgcnnModel, BlocksAfterTheFirstAllocateNothing) {
+  const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
+  const NpyArray big = read_npy_f32(kDir + "block_c6_n4096.npy");
+  const NpyArray small = read_npy_f32(kDir + "block_c6_n1024.npy");
+  DgcnnWorkspace ws;
+  std::vector<float> logits(big.shape[0] * model.classes());
+  model.forward(big.values.data(), big.shape[0], logits.data(), ws);
+  const std::size_t bytes = ws.bytes();
+  const auto addresses = buffer_addresses(ws);
+  for (const void* a : addresses) EXPECT_NE(a, nullptr);
+  // A 4096-point block's working set: a few MB, not the N x N distances (64 MB).
+  EXPECT_GT(bytes, std::size_t{1} << 20);
+  EXPECT_LT(bytes, std::size_t{32} << 20);
+  model.forward(small.values.data(), small.shape[0], logits.data(), ws);
+  model.forward(big.values.data(), big.shape[0], logits.data(), ws);
+  EXPECT_EQ(ws.bytes(), bytes);
+  EXPECT_EQ(buffer_addresses(ws), addresses);
+}
+
 TEST(DgcnnModel, RejectsNonFiniteInput) {
   const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
   std::vector<float> block(64 * 6, 0.5f);
