@@ -4,6 +4,7 @@
 // bad metadata, malformed .npy files. Each message must name the culprit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -194,6 +195,36 @@ TEST_F(NpyErrors, RoundTripAndEachCheck) {
   v9.write("\x93NUMPY\x09\x00\x00\x00\x00\x00", 12);
   v9.close();
   EXPECT_NE(error(dir / "v9.npy").find("version"), std::string::npos);
+}
+
+// conv9 has no bias in the reference layout, but a model trained with one
+// loads and adds it to every point's logits.
+TEST(DgcnnLoad, OptionalClassifierBiasIsAddedToTheLogits) {
+  nlohmann::json h = model_header();
+  const std::size_t classes = h["conv9.weight"]["shape"][0].get<std::size_t>();
+  std::size_t end = 0;
+  for (const auto& [name, t] : h.items())
+    if (name != "__metadata__") end = std::max(end, t["data_offsets"][1].get<std::size_t>());
+  h["conv9.bias"] = {{"dtype", "F32"}, {"shape", {classes}}, {"data_offsets", {end, end + 4 * classes}}};
+  auto bytes = with_header_json(h);
+  std::vector<float> bias(classes);
+  for (std::size_t c = 0; c < classes; ++c) bias[c] = 0.5f * static_cast<float>(c) - 1.0f;
+  const auto* raw = reinterpret_cast<const std::uint8_t*>(bias.data());
+  bytes.insert(bytes.end(), raw, raw + 4 * classes);
+
+  const SafetensorsFile plain_file = SafetensorsFile::parse(model_bytes(), "plain.safetensors");
+  const SafetensorsFile biased_file = SafetensorsFile::parse(std::move(bytes), "biased.safetensors");
+  const auto level = kernels::active_simd_level();
+  const DgcnnModel plain(load_dgcnn_weights(plain_file), parse_dgcnn_metadata(plain_file.metadata(), "p"), level);
+  const DgcnnModel biased(load_dgcnn_weights(biased_file), parse_dgcnn_metadata(biased_file.metadata(), "b"), level);
+  const NpyArray block = read_npy_f32(std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/block_c6_n1024.npy");
+  const std::size_t n = block.shape[0];
+  std::vector<float> a(n * classes), b(n * classes);
+  DgcnnWorkspace ws;
+  plain.forward(block.values.data(), n, a.data(), ws);
+  biased.forward(block.values.data(), n, b.data(), ws);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t c = 0; c < classes; ++c) ASSERT_NEAR(b[i * classes + c], a[i * classes + c] + bias[c], 1e-4f);
 }
 
 }  // namespace
