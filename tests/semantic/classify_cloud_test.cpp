@@ -1,7 +1,8 @@
 // Tests `sarmap classify INPUT --model M --out OUT` (cloud mode of
 // tools/sarmap/classify_command.cpp) by running the built binary on a small
 // labelled PLY: the output keeps every point, has valid labels and per-class
-// scores, and carries the input labels as gt_label; bad invocations fail.
+// scores, and carries the input labels as gt_label; one frame of a sequence
+// (--frame) is classified in the world frame; bad invocations fail.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -71,6 +72,35 @@ TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
             0);
   EXPECT_NE(slurp(err).find("either INPUT"), std::string::npos) << slurp(err);
   fs::remove(err);
+}
+
+// One frame of a sequence folder, in the world frame (frame 1 of the tiny
+// sequence is posed at (3, 4) and holds 2 points); a frame past the end is refused.
+TEST(ClassifyCloud, ClassifiesOneFrameOfASequence) {
+  const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_frame_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string seq = std::string(SARMAP_TEST_DATA_DIR) + "/sequences/tiny";
+  const PointBuffer sensor_frame = read_point_cloud(seq + "/frame_000001.ply");
+  ASSERT_EQ(run(seq + " --frame 1 --model " + kDir + "model_c6.safetensors --out " + (dir / "f1.ply").string(),
+                dir / "err"),
+            0)
+      << slurp(dir / "err");
+  const PointBuffer out = read_point_cloud(dir / "f1.ply");
+  ASSERT_EQ(out.size(), sensor_frame.size());
+  ASSERT_TRUE(out.has_labels());
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    // pose: x' = -y + 3, y' = x + 4
+    EXPECT_NEAR(out.x()[p], -sensor_frame.y()[p] + 3.0f, 1e-5f);
+    EXPECT_NEAR(out.y()[p], sensor_frame.x()[p] + 4.0f, 1e-5f);
+    EXPECT_EQ(out.labels()[p], 0) << "two points are far too few for a block";
+  }
+  EXPECT_NE(run(seq + " --frame 2 --model " + kDir + "model_c6.safetensors --out " + (dir / "f2.ply").string(),
+                dir / "err"),
+            0);
+  EXPECT_NE(slurp(dir / "err").find("--frame 2 but the sequence has 2 frames"), std::string::npos)
+      << slurp(dir / "err");
+  EXPECT_FALSE(fs::exists(dir / "f2.ply"));
+  fs::remove_all(dir);
 }
 
 }  // namespace
