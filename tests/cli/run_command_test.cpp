@@ -137,6 +137,38 @@ TEST_F(RunCommand, GeometricBaselineNeedsNoModel) {
   EXPECT_TRUE(semantic.has_gt_labels());  // the input's labels are kept as ground truth
 }
 
+// The DGCNN with a given model; --min-block-points decides whether the tiny
+// frames' blocks (3 and 2 points) are classified or left unknown.
+TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
+  const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
+  const auto run = [&](const std::string& extra, const fs::path& out) {
+    return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --model " +
+                       quoted(model) + " --quiet" + extra,
+                   dir_);
+  };
+  auto r = run("", dir_ / "default");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto profile = nlohmann::json::parse(test::read_all(dir_ / "default" / "profile.json"));
+  EXPECT_EQ(profile.at("stages").at("classify").at("blocks").get<double>(), 0.0);
+  EXPECT_EQ(profile.at("stages").at("classify").at("unlabelled").get<double>(), 5.0);
+  auto manifest = nlohmann::json::parse(test::read_all(dir_ / "default" / "manifest.json"));
+  EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "dgcnn");
+  EXPECT_EQ(manifest.at("settings").at("min_block_points").get<int>(), 100);
+
+  r = run(" --min-block-points 1", dir_ / "every_block");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  profile = nlohmann::json::parse(test::read_all(dir_ / "every_block" / "profile.json"));
+  EXPECT_GE(profile.at("stages").at("classify").at("blocks").get<double>(), 2.0);
+  EXPECT_EQ(profile.at("stages").at("classify").at("unlabelled").get<double>(), 0.0);
+  const PointBuffer semantic = read_point_cloud(dir_ / "every_block" / "semantic_points.ply");
+  EXPECT_EQ(semantic.score_count(), 4u);  // the fixture model's classes
+  for (std::uint8_t label : semantic.labels()) EXPECT_NE(label, 0);
+
+  r = run(" --min-block-points 0", dir_ / "zero");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--min-block-points"), std::string::npos) << r.err;
+}
+
 TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
   fs::create_directories(dir_ / "tum/depth");
   for (int f = 0; f < 2; ++f) {

@@ -43,6 +43,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   config.voxel = o.voxel;
   config.max_range = o.max_range;
   config.classifier.kind = o.classifier;
+  config.classifier.dgcnn.min_points = o.min_block_points;
   if (o.classifier == "dgcnn") {
     config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
     if (!fs::exists(config.classifier.model)) {
@@ -82,7 +83,10 @@ RunSummary run_pipeline(const RunOptions& o) {
   manifest["scans"] = scans;
   manifest["settings"]["voxel"] = o.voxel;
   manifest["settings"]["classifier"] = o.classifier;
-  if (o.classifier == "dgcnn") manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
+  if (o.classifier == "dgcnn") {
+    manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
+    manifest["settings"]["min_block_points"] = o.min_block_points;
+  }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
@@ -127,6 +131,10 @@ void add_run_command(CLI::App& app) {
                   "no model) or labels (the input's label property)")
       ->capture_default_str();
   cmd->add_option("--model", o->model, "DGCNN weights (default datasets/models/ramps-dgcnn.safetensors)");
+  cmd->add_option("--min-block-points", o->min_block_points,
+                  "DGCNN blocks with fewer points are not classified (their points stay unknown)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
