@@ -93,7 +93,7 @@ void BM_Gemm(benchmark::State& state, SimdLevel level) {
   BENCHMARK_CAPTURE(fn, avx2, SimdLevel::Avx2) args->Unit(benchmark::kMillisecond)->UseRealTime();    \
   BENCHMARK_CAPTURE(fn, avx512, SimdLevel::Avx512) args->Unit(benchmark::kMillisecond)->UseRealTime();
 
-SARMAP_LEVELS(BM_Knn, ->ArgNames({"dim", "threads"})->Args({3, 1})->Args({64, 1})->Args({64, 2}))
+SARMAP_LEVELS(BM_Knn, ->ArgNames({"dim", "threads"})->Args({3, 1})->Args({3, 2})->Args({64, 1})->Args({64, 2}))
 SARMAP_LEVELS(BM_EdgeConv, ->ArgName("threads")->Arg(1)->Arg(2))
 SARMAP_LEVELS(BM_GemmColumnMax, ->ArgName("threads")->Arg(1)->Arg(2))
 SARMAP_LEVELS(BM_Gemm, ->ArgName("threads")->Arg(1)->Arg(2))

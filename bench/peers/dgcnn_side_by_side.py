@@ -2,7 +2,8 @@
 # sarmap's DGCNN against PyTorch on the same model and block, in one run:
 # runs BM_DgcnnBlock of sarmap_semantic_bench and the PyTorch peer
 # (dgcnn_torch.py, with the allocator settings that make torch fastest here)
-# at each thread count, then prints both and the ratio.
+# at each thread count, then prints both and the ratio; then kNN alone
+# (BM_Knn of sarmap_kernels_bench against the reference's matmul + topk).
 #
 #   /usr/bin/python3 bench/peers/dgcnn_side_by_side.py --bench build/release/bench/semantic/sarmap_semantic_bench \
 #       --model datasets/models/ramps-dgcnn.safetensors --block BLOCK.npy
@@ -30,6 +31,24 @@ def sarmap_ms(bench, model, block, threads, simd):
     return runs[0]["real_time"]  # the benchmark reports milliseconds
 
 
+def sarmap_knn_ms(bench, dim, threads, simd):
+    out = subprocess.run([bench, f"--benchmark_filter=BM_Knn/{simd}/dim:{dim}/threads:{threads}/",
+                          "--benchmark_format=json", "--benchmark_min_time=0.5"],
+                         check=True, capture_output=True, text=True).stdout
+    runs = [b for b in json.loads(out)["benchmarks"] if b.get("run_type") == "iteration"]
+    if not runs:
+        raise SystemExit(f"no BM_Knn/{simd}/dim:{dim}/threads:{threads} result")
+    return runs[0]["real_time"]
+
+
+def torch_knn_ms(dim, threads):
+    env = dict(os.environ, **PEER_ENV)
+    out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "dgcnn_torch.py"), "--knn", str(dim),
+                          "--points", "4096", "--k", "20", "--threads", str(threads)],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])["ms"]
+
+
 def torch_run(model, block, threads):
     env = dict(os.environ, **PEER_ENV)
     out = subprocess.run(["/usr/bin/python3", os.path.join(HERE, "dgcnn_torch.py"), model, block,
@@ -44,6 +63,8 @@ def main(argv):
     parser.add_argument("--block")
     parser.add_argument("--simd", default="avx512", help="sarmap's instruction set: sse4_2, avx2 or avx512")
     parser.add_argument("--threads", default="1,2")
+    parser.add_argument("--knn-bench", default=os.path.join(ROOT, "build/release/bench/kernels/sarmap_kernels_bench"),
+                        help="also compare kNN alone (4096 random points, k 20) with this benchmark; '' skips it")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         model, block = args.model, args.block
@@ -59,6 +80,15 @@ def main(argv):
             peer = torch_run(model, block, threads)
             print(f"| {threads} | {ours:.1f} | {peer['ms_per_block']:.1f} | {peer['ms_per_block'] / ours:.1f}x | "
                   f"{', '.join(peer['blas']) or 'none found'} |", flush=True)
+    if args.knn_bench:
+        print("\nkNN alone, 4096 random points, k 20 (PyTorch: matmul distances + topk, as the reference):")
+        print("| dim | threads | sarmap ms | PyTorch ms | speed-up |")
+        print("|---|---|---|---|---|")
+        for dim in (3, 64):
+            for threads in (int(t) for t in args.threads.split(",")):
+                ours = sarmap_knn_ms(args.knn_bench, dim, threads, args.simd)
+                peer = torch_knn_ms(dim, threads)
+                print(f"| {dim} | {threads} | {ours:.1f} | {peer:.1f} | {peer / ours:.1f}x |", flush=True)
 
 
 if __name__ == "__main__":
