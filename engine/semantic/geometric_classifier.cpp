@@ -91,6 +91,7 @@ GeometricClassifyStats GeometricClassifier::classify(PointBuffer& points) const 
     const double x = points.x()[p], y = points.y()[p], z = points.z()[p];
     ClassId label = ClassId::Other;
     bool side_face = false;
+    bool cap = false;
     if (!normals.valid[p]) {
       ++stats.without_normal;
       // No normal and outside the map's limits: nothing can be said.
@@ -113,26 +114,33 @@ GeometricClassifyStats GeometricClassifier::classify(PointBuffer& points) const 
           label = ClassId::Terrain;
         } else if (height <= s.flat_ramp_max_height) {
           label = ClassId::FlatRamp;
+          cap = true;
         } else {
           label = wall_tall ? ClassId::Wall : ClassId::Other;
+          cap = !wall_tall;  // a box's top
         }
       } else if (nz >= inclined_nz) {
         label = ClassId::InclinedRamp;
+        cap = height >= s.raised_min_height;
       } else if (nz <= vertical_nz) {
         label = wall_tall ? ClassId::Wall : ClassId::Other;
         side_face = true;
       }
-      if (!side_face && height >= s.raised_min_height && label != ClassId::Wall) caps.add(x, y, z, label);
+      // Only surfaces something can stand on cap a side face; a slope
+      // between inclined and vertical is no evidence of what is below it.
+      if (cap) caps.add(x, y, z, label);
     }
     points.labels()[p] = static_cast<std::uint8_t>(label);
     short_sides.push_back(side_face && label == ClassId::Other);
   }
   // Second pass: a short vertical face takes the class of the surface it
   // holds up — a flat ramp's side is flat ramp, an inclined ramp's inclined.
+  // With nothing on top it is a wall whose top the sensor does not see (a
+  // camera pitched down sees walls only to its own height).
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (!short_sides[p]) continue;
     points.labels()[p] = static_cast<std::uint8_t>(
-        caps.class_above(points.x()[p], points.y()[p], points.z()[p], s.side_tolerance, ClassId::Other));
+        caps.class_above(points.x()[p], points.y()[p], points.z()[p], s.side_tolerance, ClassId::Wall));
   }
   return stats;
 }

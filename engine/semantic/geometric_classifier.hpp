@@ -11,7 +11,7 @@
 //                                 above the floor; else the class of the raised
 //                                 surface it holds up (a ramp's or box's side:
 //                                 the highest within one column around that is
-//                                 not below it), else other
+//                                 not below it), else wall (its top unseen)
 //   on an edge (curvature above edge_curvature): terrain when low, else as
 //                                 a vertical face
 //   in between, or no normal:     other
