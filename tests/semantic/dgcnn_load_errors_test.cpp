@@ -125,6 +125,17 @@ TEST(DgcnnLoad, BadMetadataIsNamed) {
   EXPECT_NE(c.find("lava"), std::string::npos) << c;
 }
 
+// A model trained with another feature normalisation would get features it
+// never saw: refused by name rather than run.
+TEST(DgcnnLoad, UnknownNormalisationIsRefused) {
+  nlohmann::json h = model_header();
+  ASSERT_TRUE(h["__metadata__"].contains("sarmap.normalisation"));
+  h["__metadata__"]["sarmap.normalisation"] = "room_extent";
+  const std::string e = load_error(with_header_json(h));
+  EXPECT_NE(e.find("sarmap.normalisation"), std::string::npos) << e;
+  EXPECT_NE(e.find("room_extent"), std::string::npos) << e;
+}
+
 TEST(DgcnnLoad, ModulePrefixAndBnAliasesAreAccepted) {
   // DataParallel's "module." on every tensor, and conv1's BN only under its
   // bn1 alias (the conv1.1.* entries renamed away).
