@@ -1,0 +1,77 @@
+// Regression test of the shipped ramp model: run through the C++ engine on
+// fixed scans of a held-out arena (random arena 9001, a seed never used in
+// training), it must keep the per-point accuracy recorded when it was
+// trained, and beat the geometric baseline on the same scans. The figures
+// were measured with this test's own code when the model was committed
+// (see PERF.md, "Classifiers"); the thresholds sit a small margin below.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "engine/core/classes.hpp"
+#include "engine/eval/point_evaluation.hpp"
+#include "engine/pipeline/point_classifier.hpp"
+#include "engine/sim/random_arena.hpp"
+#include "engine/sim/simulator.hpp"
+
+namespace sarmap {
+namespace {
+
+constexpr std::uint64_t kHeldOutArena = 9001;
+constexpr std::size_t kScans = 6;  // spread evenly along the trajectory
+
+// Recorded when the model was committed; margins absorb nothing but future
+// changes of sampling order, so they are small.
+constexpr double kRecordedMeanIou = 0.9450;
+constexpr double kRecordedInclinedIou = 0.8866;
+constexpr double kRecordedFlatIou = 0.9548;
+constexpr double kMargin = 0.02;
+
+eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& config) {
+  const sim::Arena arena = sim::random_arena(kHeldOutArena);
+  sim::SimulationOptions options;
+  options.seed = 7;
+  const sim::Simulator simulator(arena, options);
+  const auto classifier = pipeline::make_point_classifier(config);
+  eval::ConfusionMatrix confusion;
+  for (std::size_t i = 0; i < kScans; ++i) {
+    const std::size_t frame = (2 * i + 1) * simulator.frame_count() / (2 * kScans);
+    Scan scan = simulator.simulate(frame);
+    PointBuffer& points = scan.points;
+    points.enable_gt_labels();
+    // The simulator's truth, kept beside the prediction the classifier writes.
+    std::copy(points.labels().begin(), points.labels().end(), points.gt_labels().begin());
+    classifier->classify(points);
+    confusion.merge(eval::evaluate_points(points, "frame " + std::to_string(frame)).confusion);
+  }
+  return confusion;
+}
+
+void print_figures(const char* name, const eval::ConfusionMatrix& c) {
+  std::printf("%s: accuracy %.4f, mean IoU %.4f, terrain %.4f, wall %.4f, inclined %.4f, flat %.4f\n", name,
+              c.accuracy().value_or(0), c.mean_iou().value_or(0), c.iou(ClassId::Terrain).value_or(0),
+              c.iou(ClassId::Wall).value_or(0), c.iou(ClassId::InclinedRamp).value_or(0),
+              c.iou(ClassId::FlatRamp).value_or(0));
+}
+
+TEST(ShippedModel, KeepsItsRecordedAccuracyOnAHeldOutArena) {
+  pipeline::ClassifierConfig dgcnn;
+  dgcnn.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
+  const eval::ConfusionMatrix net = classify_held_out_scans(dgcnn);
+  pipeline::ClassifierConfig geometric;
+  geometric.kind = "geometric";
+  const eval::ConfusionMatrix baseline = classify_held_out_scans(geometric);
+  print_figures("dgcnn", net);
+  print_figures("geometric", baseline);
+
+  ASSERT_GT(net.total(), 100'000u);
+  EXPECT_GE(net.mean_iou().value(), kRecordedMeanIou - kMargin);
+  EXPECT_GE(net.iou(ClassId::InclinedRamp).value(), kRecordedInclinedIou - kMargin);
+  EXPECT_GE(net.iou(ClassId::FlatRamp).value(), kRecordedFlatIou - kMargin);
+  EXPECT_GT(net.mean_iou().value(), baseline.mean_iou().value());
+}
+
+}  // namespace
+}  // namespace sarmap
