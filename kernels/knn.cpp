@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "kernels/exact_distance.hpp"
 #include "kernels/knn_args.hpp"
 #include "kernels/packed_matrix.hpp"
 
@@ -60,12 +61,7 @@ void knn_reference(const float* points, std::size_t stride, std::size_t count, s
   std::vector<std::uint32_t> order(count);
   for (std::size_t i = 0; i < count; ++i) {
     for (std::size_t j = 0; j < count; ++j) {
-      double sum = 0.0;
-      for (std::size_t c = 0; c < dim; ++c) {
-        const double diff = static_cast<double>(points[i * stride + c]) - points[j * stride + c];
-        sum += diff * diff;
-      }
-      dist[j] = sum;
+      dist[j] = exact_squared_distance(points + i * stride, points + j * stride, dim);
     }
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return dist[a] < dist[b]; });

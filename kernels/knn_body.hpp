@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 
+#include "kernels/exact_distance.hpp"
 #include "kernels/knn_args.hpp"
 #include "kernels/knn_limits.hpp"
 #include "kernels/microkernel.hpp"
@@ -140,11 +141,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         for (std::size_t c = 0; c < found[r]; ++c) {
           const std::uint32_t id = best_i[r][c];
           const float* other = q.points + static_cast<std::size_t>(id) * q.stride;
-          double d = 0.0;
-          for (std::size_t j = 0; j < dim; ++j) {
-            const double diff = static_cast<double>(self[j]) - static_cast<double>(other[j]);
-            d += diff * diff;
-          }
+          const double d = exact_squared_distance(self, other, dim);
           std::size_t pos = n++;
           while (pos > 0 && (exact[pos - 1] > d || (exact[pos - 1] == d && best_i[r][pos - 1] > id))) {
             exact[pos] = exact[pos - 1];
