@@ -169,6 +169,38 @@ TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
   EXPECT_NE(r.err.find("--min-block-points"), std::string::npos) << r.err;
 }
 
+// Overlapping blocks: with a stride of half the block each point lies in up
+// to four blocks, so more blocks run than without overlap, every point still
+// gets a class, and the manifest records the stride. A stride above the block
+// size would leave gaps and is refused by name.
+TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
+  const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
+  const auto run = [&](const std::string& extra, const fs::path& out) {
+    return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --model " +
+                       quoted(model) + " --quiet --min-block-points 1" + extra,
+                   dir_);
+  };
+  const auto blocks = [&](const fs::path& out) {
+    return nlohmann::json::parse(test::read_all(out / "profile.json"))
+        .at("stages").at("classify").at("blocks").get<double>();
+  };
+  auto r = run("", dir_ / "plain");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run(" --block-stride 0.5", dir_ / "overlap");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(blocks(dir_ / "overlap"), blocks(dir_ / "plain"));
+  const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "overlap" / "manifest.json"));
+  EXPECT_DOUBLE_EQ(manifest.at("settings").at("block_stride").get<double>(), 0.5);
+  for (std::uint8_t label : read_point_cloud(dir_ / "overlap" / "semantic_points.ply").labels()) EXPECT_NE(label, 0);
+
+  r = run(" --block-stride 2", dir_ / "gaps");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("stride"), std::string::npos) << r.err;
+  r = run(" --block-stride -1", dir_ / "negative");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--block-stride"), std::string::npos) << r.err;
+}
+
 TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
   fs::create_directories(dir_ / "tum/depth");
   for (int f = 0; f < 2; ++f) {

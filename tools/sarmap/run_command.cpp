@@ -44,6 +44,8 @@ RunSummary run_pipeline(const RunOptions& o) {
   config.max_range = o.max_range;
   config.classifier.kind = o.classifier;
   config.classifier.dgcnn.min_points = o.min_block_points;
+  if (o.block_stride < 0) throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be >= 0");
+  config.classifier.dgcnn.stride = o.block_stride;
   if (o.classifier == "dgcnn") {
     config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
     if (!fs::exists(config.classifier.model)) {
@@ -86,6 +88,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   if (o.classifier == "dgcnn") {
     manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
     manifest["settings"]["min_block_points"] = o.min_block_points;
+    manifest["settings"]["block_stride"] = o.block_stride;
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
@@ -135,6 +138,10 @@ void add_run_command(CLI::App& app) {
                   "DGCNN blocks with fewer points are not classified (their points stay unknown)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--block-stride", o->block_stride,
+                  "Metres between DGCNN block origins; below the block size the blocks overlap and each "
+                  "point's scores are averaged over the blocks that hold it (0 = the block size, no overlap)")
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
