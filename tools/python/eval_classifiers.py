@@ -53,13 +53,15 @@ def simulate(sarmap, work, name, arena_json, seed, every):
     return arena_path, folder
 
 
-def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, threads):
-    out = os.path.join(work, name, classifier)
+def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, threads):
+    out = os.path.join(work, name, classifier + (f"-stride{block_stride}" if classifier == "dgcnn" and block_stride else ""))
     cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
     if classifier == "dgcnn" and model:
         cmd += ["--model", model]
     if classifier == "dgcnn" and min_block_points:
         cmd += ["--min-block-points", str(min_block_points)]
+    if classifier == "dgcnn" and block_stride:
+        cmd += ["--block-stride", str(block_stride)]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
     with open(os.path.join(out, "profile.json")) as f:
@@ -100,6 +102,7 @@ def main(argv):
     parser.add_argument("--classifier", action="append", default=None, help="default: dgcnn and geometric")
     parser.add_argument("--model", help="DGCNN model (default: the shipped one)")
     parser.add_argument("--min-block-points", type=int, help="passed to sarmap run (default: its own)")
+    parser.add_argument("--block-stride", type=float, help="passed to sarmap run: overlapping DGCNN blocks")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args(argv)
@@ -113,7 +116,7 @@ def main(argv):
         arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every)
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
-                                        args.min_block_points, args.threads)
+                                        args.min_block_points, args.block_stride, args.threads)
             totals[classifier] += conf
             rows.append((name, classifier, ious(conf), classify_s))
             print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)
