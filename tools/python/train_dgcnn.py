@@ -132,7 +132,7 @@ def train(args):
     os.makedirs(args.work, exist_ok=True)
     config_path = os.path.join(args.work, "config.json")
     config = {k: getattr(args, k) for k in ("data", "val_data", "points", "k", "emb", "head", "batch", "epochs",
-                                            "steps_per_epoch", "lr", "seed", "ramp_boost")}
+                                            "steps_per_epoch", "lr", "seed", "ramp_boost", "init_from")}
     if os.path.exists(config_path):
         with open(config_path) as f:
             saved = json.load(f)
@@ -155,14 +155,28 @@ def train(args):
     schedule = torch.optim.lr_scheduler.LambdaLR(
         optimiser, lambda step: 0.02 + 0.98 * 0.5 * (1 + math.cos(math.pi * min(step, total_steps) / total_steps)))
     checkpoint_path = os.path.join(args.work, "checkpoint.pt")
-    epoch, history = 0, []
+    epoch, history, history_before = 0, [], None
     if os.path.exists(checkpoint_path):
         state = torch.load(checkpoint_path)
         model.load_state_dict(state["model"])
         optimiser.load_state_dict(state["optimiser"])
         schedule.load_state_dict(state["schedule"])
         epoch, history = state["epoch"], state["history"]
+        history_before = state.get("history_before")
         print(f"resuming after epoch {epoch}")
+    elif args.init_from:
+        # A fresh schedule over weights trained before: a warm restart, e.g.
+        # on more arenas. The earlier run's history is kept for the metadata.
+        prior = torch.load(args.init_from)
+        model.load_state_dict(prior["model"])
+        with open(os.path.join(os.path.dirname(args.init_from), "config.json")) as f:
+            prior_config = json.load(f)
+        prior_data = np.load(prior_config["data"])
+        history_before = {"epochs": prior["epoch"], "data": prior_config["data"],
+                          "arena_seeds": sorted(set(int(s) for s in prior_data["arena"])),
+                          "train_seconds": round(sum(h["seconds"] for h in prior["history"])),
+                          "before": prior.get("history_before")}
+        print(f"starting from {args.init_from} (after its epoch {prior['epoch']})")
     weights = torch.from_numpy(loss_weights)
 
     while epoch < args.epochs:
@@ -197,7 +211,8 @@ def train(args):
         print(json.dumps(record), flush=True)
         save_checkpoint(checkpoint_path, {"model": model.state_dict(), "optimiser": optimiser.state_dict(),
                                           "schedule": schedule.state_dict(), "epoch": epoch,
-                                          "history": history, "confusion": conf.tolist()})
+                                          "history": history, "history_before": history_before,
+                                          "confusion": conf.tolist()})
     print("training done")
 
 
@@ -224,6 +239,8 @@ def export(args):
             "val_accuracy": round(last["val_accuracy"], 4), "val_mean_iou_4": round(last["val_mean_iou_4"], 4),
             "val_iou": {c: None if v is None else round(v, 4) for c, v in last["val_iou"].items()},
             "train_seconds": round(sum(h["seconds"] for h in state["history"])),
+            # Set when this run started from another's weights (--init-from).
+            "fine_tuned_from": state.get("history_before"),
         }, separators=(",", ":")),
     })
     tensors = {name: t for name, t in state_numpy(model).items() if not name.endswith("num_batches_tracked")}
@@ -250,6 +267,7 @@ def main(argv):
     tr.add_argument("--ramp-boost", type=float, default=3.0, help="extra draw weight of blocks with ramps/obstacles")
     tr.add_argument("--val-blocks", type=int, default=160)
     tr.add_argument("--threads", type=int, default=1)
+    tr.add_argument("--init-from", help="start from the weights of another run's checkpoint.pt (new schedule)")
     ex = sub.add_parser("export", help="write the trained model as .safetensors with sarmap metadata")
     ex.add_argument("--work", required=True)
     ex.add_argument("--out", required=True)
