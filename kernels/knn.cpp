@@ -3,6 +3,8 @@
 #include "kernels/knn.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
@@ -19,6 +21,32 @@ namespace {
 
 constexpr std::size_t kChunkRows = 48;  // a multiple of both tile heights (6, 12)
 
+// The bounding box and largest length of each packed panel's points
+// (padding lanes excluded), in the panels' own centred floats.
+void panel_bounds(std::size_t count, std::size_t dim, SimdLevel level, KnnWorkspace& ws) {
+  const std::size_t nr = static_cast<std::size_t>(panel_width(level));
+  const std::size_t panel_count = (count + nr - 1) / nr;
+  ws.panel_boxes.resize(panel_count * 2 * dim);
+  ws.panel_max_radius.resize(panel_count);
+  for (std::size_t p = 0; p < panel_count; ++p) {
+    const float* panel = ws.panels.data() + p * nr * dim;
+    const std::size_t lanes = std::min(nr, count - p * nr);
+    float* lo = ws.panel_boxes.data() + p * 2 * dim;
+    float* hi = lo + dim;
+    for (std::size_t c = 0; c < dim; ++c) {
+      lo[c] = hi[c] = panel[c * nr];
+      for (std::size_t l = 1; l < lanes; ++l) {
+        lo[c] = std::min(lo[c], panel[c * nr + l]);
+        hi[c] = std::max(hi[c], panel[c * nr + l]);
+      }
+    }
+    float max_norm = 0.0f;
+    for (std::size_t l = 0; l < lanes; ++l) max_norm = std::max(max_norm, ws.norms[p * nr + l]);
+    // Only feeds a rounding allowance; one ulp up keeps it an upper bound.
+    ws.panel_max_radius[p] = std::nextafter(std::sqrt(max_norm), std::numeric_limits<float>::infinity());
+  }
+}
+
 detail::KnnRowsFn rows_fn(SimdLevel level) {
   switch (level) {
     case SimdLevel::Avx512: return detail::knn_rows_avx512;
@@ -32,17 +60,48 @@ void check(std::size_t count, std::size_t dim, std::size_t k) {
   if (k < 1 || k > kKnnMaxK) throw std::invalid_argument("knn: k must be 1.." + std::to_string(kKnnMaxK));
   if (dim < 1 || dim > kKnnMaxDim) throw std::invalid_argument("knn: dim must be 1.." + std::to_string(kKnnMaxDim));
   if (count < 1) throw std::invalid_argument("knn: no points");
+  if (count > kKnnMaxCount) throw std::invalid_argument("knn: more than " + std::to_string(kKnnMaxCount) + " points");
 }
 
 }  // namespace
 
 void knn(const float* points, std::size_t stride, std::size_t count, std::size_t dim, std::size_t k, SimdLevel level,
-         KnnWorkspace& workspace, std::uint32_t* idx) {
+         KnnWorkspace& workspace, std::uint32_t* idx, const std::uint32_t* visit_order) {
   check(count, dim, k);
   if (!simd_level_supported(level)) throw std::invalid_argument("knn: instruction set not supported by this CPU");
-  pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
-  const detail::KnnArgs args{points,      stride, count, dim, k, workspace.panels.data(), workspace.norms.data(),
-                             workspace.centre.data(), idx};
+  if (visit_order != nullptr) {
+    // Gather the rows in visit order; the kernel maps positions back.
+    // A repeated index would leave some caller's row without neighbours.
+    workspace.gathered.resize(count * dim);
+    workspace.visited.resize(count);
+    std::fill_n(workspace.visited.data(), count, std::uint8_t{0});
+    float* gathered = workspace.gathered.data();
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t from = visit_order[i];
+      if (from >= count || workspace.visited[from] != 0) {
+        throw std::invalid_argument("knn: the visit order is not a permutation of the points (index " +
+                                    std::to_string(from) + " at position " + std::to_string(i) + ")");
+      }
+      workspace.visited[from] = 1;
+      std::copy_n(points + static_cast<std::size_t>(from) * stride, dim, gathered + i * dim);
+    }
+    pack_points(gathered, dim, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
+  } else {
+    pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
+  }
+  panel_bounds(count, dim, level, workspace);
+  const detail::KnnArgs args{points,
+                             stride,
+                             count,
+                             dim,
+                             k,
+                             workspace.panels.data(),
+                             workspace.norms.data(),
+                             workspace.centre.data(),
+                             workspace.panel_boxes.data(),
+                             workspace.panel_max_radius.data(),
+                             idx,
+                             visit_order};
   const detail::KnnRowsFn fn = rows_fn(level);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, (count + kChunkRows - 1) / kChunkRows, 1),

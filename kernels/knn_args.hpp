@@ -8,15 +8,23 @@
 namespace sarmap::kernels::detail {
 
 struct KnnArgs {
-  const float* points = nullptr;  // count x dim, row stride `stride`
+  const float* points = nullptr;  // count x dim, row stride `stride`, in the caller's order
   std::size_t stride = 0;
   std::size_t count = 0;
   std::size_t dim = 0;
   std::size_t k = 0;
-  const float* panels = nullptr;  // the same points packed by pack_points()
+  const float* panels = nullptr;  // the same points packed by pack_points(), in visit order
   const float* norms = nullptr;   // their squared norms, +inf padded
   const float* centre = nullptr;  // the mean pack_points() subtracted
-  std::uint32_t* idx = nullptr;   // count x k
+  // Per panel, the bounding box of its points (lower corner, upper corner;
+  // dim floats each, centred like the panels) and their largest length:
+  // a tile of rows skips a panel that cannot hold a neighbour of any row.
+  const float* panel_boxes = nullptr;
+  const float* panel_max_radius = nullptr;
+  std::uint32_t* idx = nullptr;   // count x k, rows and ids in the caller's indices
+  // Caller's index of each position of the panels (points packed in a visit
+  // order), or nullptr when the panels hold the points in the caller's order.
+  const std::uint32_t* original = nullptr;
 };
 
 // Neighbours of rows [begin, end).

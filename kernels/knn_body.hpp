@@ -8,11 +8,18 @@
 // kKnnExtra more candidates than k, and the final k are chosen among them by
 // exact distances (double, the reference's arithmetic), so the neighbours do
 // not depend on the instruction set's rounding.
+//
+// Each chunk of rows starts at its own panel and wraps around: when the points
+// come in a spatial order (knn.hpp's visit order), the first panels hold the
+// rows' near neighbours, the threshold falls at once and later tiles are
+// skipped by the vector compare instead of inserted one by one. The start
+// depends only on the chunk, so results do not depend on the thread count.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 
 #include "kernels/exact_distance.hpp"
@@ -23,40 +30,76 @@
 namespace sarmap::kernels {
 namespace {
 
-// Inserts x into the ascending list d of `chunks` vectors (padded with +inf;
-// d[-1] is a -inf sentinel) after any entries equal to it, shifting the
-// greater ones up a slot; the last falls off. Branch-free, a vector at a time,
-// from the top down so each vector reads its unshifted predecessor. Equal
-// distances thus keep their arrival order, which is index order: ties go to
-// the smaller index. ids moves alongside: index bits kept in float lanes,
-// only ever blended, never computed with.
+// Inserts (x, id) into the list d (distances) / ids of `chunks` vectors,
+// ascending by distance and, among equal distances, by index (padded with
+// +inf; d[-1] is a -inf sentinel), shifting the entries after it up a slot;
+// the last falls off. Branch-free, a vector at a time, from the top down so
+// each vector reads its unshifted predecessor (d[-L..-1] is a whole vector in
+// front of the list). Ordering equal distances by
+// index, not by arrival, keeps the candidates independent of the visiting
+// order: of many equal points (a block padded by repeats) the smallest
+// indices stay. Indices are kept as float values (exact below 2^24).
+// [below's last lane, cur's lanes but the last]: each lane's predecessor in
+// the list. A lane shift in registers, because an unaligned load across the
+// two vectors the previous insertion just stored stalls on store forwarding.
 template <class Arch>
-inline void insert_sorted(float* d, float* ids, std::size_t chunks, float x, float id_bits) {
+inline Batch<Arch> shift_in(const Batch<Arch>& cur, const Batch<Arch>& below) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    return _mm512_castsi512_ps(_mm512_alignr_epi32(_mm512_castps_si512(cur), _mm512_castps_si512(below), 15));
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
+    const __m256i rotate_up = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+    return _mm256_blend_ps(_mm256_permutevar8x32_ps(cur, rotate_up), _mm256_permutevar8x32_ps(below, rotate_up), 1);
+  } else
+#endif
+  {
+    static_assert(std::is_base_of_v<xsimd::sse4_2, Arch>, "shift_in: no lane shift for this instruction set");
+    return _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(cur), _mm_castps_si128(below), 12));
+  }
+}
+
+template <class Arch>
+inline void insert_sorted(float* d, float* ids, std::size_t chunks, float x, float id) {
   using B = Batch<Arch>;
   constexpr std::size_t L = B::size;
-  const B xv(x), iv(id_bits);
+  const B xv(x), iv(id);
   for (std::size_t c = chunks; c-- > 0;) {
     float* dc = d + c * L;
     float* ic = ids + c * L;
-    const B cur = B::load_aligned(dc), prev = B::load_unaligned(dc - 1);
-    const auto shift = prev > xv;
-    const auto place = (cur > xv) && !shift;
+    const B cur = B::load_aligned(dc), prev = shift_in<Arch>(cur, B::load_aligned(dc - L));
+    const B icur = B::load_aligned(ic), iprev = shift_in<Arch>(icur, B::load_aligned(ic - L));
+    const auto shift = (prev > xv) || ((prev == xv) && (iprev > iv));
+    const auto place = ((cur > xv) || ((cur == xv) && (icur > iv))) && !shift;
     xsimd::select(shift, prev, xsimd::select(place, xv, cur)).store_aligned(dc);
-    const B icur = B::load_aligned(ic), iprev = B::load_unaligned(ic - 1);
     xsimd::select(shift, iprev, xsimd::select(place, iv, icur)).store_aligned(ic);
   }
 }
 
-inline float id_as_float(std::uint32_t id) {
-  float f;
-  std::memcpy(&f, &id, sizeof f);
-  return f;
-}
-
-inline std::uint32_t id_of(float f) {
-  std::uint32_t id;
-  std::memcpy(&id, &f, sizeof id);
-  return id;
+// Squared distance between two boxes (lower and upper corners of dim each): a
+// lower bound of every squared distance between their points, up to float
+// rounding (relative, below dim * 2^-24; the caller allows for it).
+template <class Arch>
+inline float box_gap(const float* lo_a, const float* hi_a, const float* lo_b, const float* hi_b, std::size_t dim) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  const B zero(0.0f);
+  B sum(0.0f);
+  std::size_t c = 0;
+  for (; c + L <= dim; c += L) {
+    const B gap = xsimd::max(xsimd::max(B::load_unaligned(lo_b + c) - B::load_unaligned(hi_a + c),
+                                        B::load_unaligned(lo_a + c) - B::load_unaligned(hi_b + c)),
+                             zero);
+    sum = fmadd<Arch>(gap, gap, sum);
+  }
+  float total = xsimd::hadd(sum);
+  for (; c < dim; ++c) {
+    const float gap = std::max({lo_b[c] - hi_a[c], lo_a[c] - hi_b[c], 0.0f});
+    total += gap * gap;
+  }
+  return total;
 }
 
 template <class Arch>
@@ -68,8 +111,30 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   constexpr float kInf = std::numeric_limits<float>::infinity();
   const std::size_t k = q.k, dim = q.dim;
   const std::size_t panel_count = (q.count + NR - 1) / NR;
+  // Rows and panel columns are positions in visit order; original() maps a
+  // position to the caller's index (identity without a visit order), which is
+  // what the lists hold and q.points is indexed by. Locals, not q's fields:
+  // the list stores could alias them otherwise.
+  const std::uint32_t* const original_of = q.original;
+  const float* const points = q.points;
+  const std::size_t count = q.count, stride = q.stride;
+  const auto original = [original_of](std::size_t i) {
+    return original_of != nullptr ? original_of[i] : static_cast<std::uint32_t>(i);
+  };
+  const auto point = [points, stride](std::uint32_t id) { return points + static_cast<std::size_t>(id) * stride; };
 
   alignas(64) float a_scaled[MR * kKnnMaxDim];
+  std::uint32_t row_id[MR];
+  // The tile's rows as a box (centred like the panels) and their exact
+  // squared norms, for skipping panels.
+  float rows_lo[kKnnMaxDim], rows_hi[kKnnMaxDim];
+  double row_norm[MR];
+  // A computed |b|^2 - 2a.b is within slack * (|b| + |a|)^2 of the exact one
+  // (a generous bound on float rounding over dim + 1 terms), and the box gap
+  // within gap_shrink of its exact value, so a panel is skipped only when no
+  // rounding could have let one of its points in.
+  const double slack = 8.0 * static_cast<double>(dim + 2) * 0x1p-24;
+  const double gap_shrink = 1.0 - 4.0 * static_cast<double>(dim + 2) * 0x1p-24;
   constexpr std::size_t kSlots = kKnnMaxK + kKnnExtra;
   const std::size_t keep = k + kKnnExtra < q.count ? k + kKnnExtra : q.count;
   // Per row: the sorted candidate list, a vector of sentinel in front and
@@ -87,15 +152,45 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
     const int rows = static_cast<int>(min_size(MR, end - row));
     with_rows<MR>(rows, [&](auto rc) {
       constexpr int R = decltype(rc)::value;
+      double max_row_norm = 0.0;
+      float max_row_radius = 0.0f;
       for (int r = 0; r < R; ++r) {
-        const float* src = q.points + (row + r) * q.stride;
-        for (std::size_t c = 0; c < dim; ++c) a_scaled[r * dim + c] = -2.0f * (src[c] - q.centre[c]);
+        row_id[r] = original(row + r);
+        const float* src = point(row_id[r]);
+        row_norm[r] = 0.0;
+        for (std::size_t c = 0; c < dim; ++c) {
+          const float centred = src[c] - q.centre[c];
+          a_scaled[r * dim + c] = -2.0f * centred;
+          rows_lo[c] = r == 0 ? centred : std::min(rows_lo[c], centred);
+          rows_hi[c] = r == 0 ? centred : std::max(rows_hi[c], centred);
+          row_norm[r] += static_cast<double>(centred) * centred;
+        }
+        max_row_norm = std::max(max_row_norm, row_norm[r]);
+        max_row_radius = static_cast<float>(std::sqrt(max_row_norm));
         found[r] = 0;
         threshold[r] = kInf;
-        list_d[r][L - 1] = -kInf;
+        for (std::size_t j = 0; j < L; ++j) list_d[r][j] = -kInf;
         for (std::size_t j = L; j < L + kListLanes; ++j) list_d[r][j] = kInf;
+        for (std::size_t j = 0; j < L + kListLanes; ++j) list_i[r][j] = 0.0f;
       }
-      for (std::size_t p = 0; p < panel_count; ++p) {
+      // Panels outward from the tile's own: p0, p0 + 1, p0 - 1, p0 + 2, ...
+      std::ptrdiff_t up = static_cast<std::ptrdiff_t>((row + R / 2) / NR), down = up - 1;
+      if (up >= static_cast<std::ptrdiff_t>(panel_count)) up = static_cast<std::ptrdiff_t>(panel_count) - 1, down = up - 1;
+      bool take_up = true;
+      for (std::size_t visit = 0; visit < panel_count; ++visit, take_up = !take_up) {
+        const std::size_t p = static_cast<std::size_t>(
+            up < static_cast<std::ptrdiff_t>(panel_count) && (take_up || down < 0) ? up++ : down--);
+        // Skip the panel when even its nearest possible point lies beyond
+        // every row's k-th candidate (true squared distance = ranked value
+        // + |a|^2). Until a row's list is full its threshold is +inf.
+        double limit = 0.0;
+        for (int r = 0; r < R; ++r) limit = std::max(limit, static_cast<double>(threshold[r]) + row_norm[r]);
+        if (limit < kInf) {
+          const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
+          limit += slack * reach * reach;
+          const float* box = q.panel_boxes + p * 2 * dim;
+          if (gap_shrink * box_gap<Arch>(rows_lo, rows_hi, box, box + dim, dim) > limit) continue;
+        }
         B acc[R][2];
         const B n0 = B::load_aligned(q.norms + p * NR), n1 = B::load_aligned(q.norms + p * NR + L);
         for (int r = 0; r < R; ++r) {
@@ -115,33 +210,36 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         for (int r = 0; r < R; ++r) {
           const B t(threshold[r]);
           const float* tmp = tile[r];
-          // Visit only the lanes under the threshold, in index order (which
-          // keeps ties going to the smaller index); each insertion may lower
-          // the threshold for the lanes after it.
-          std::uint64_t below = lane_mask<Arch>(B::load_aligned(tmp) < t) |
-                                (std::uint64_t{lane_mask<Arch>(B::load_aligned(tmp + L) < t)} << L);
+          // Visit only the lanes at or under the threshold; each insertion
+          // may lower the threshold for the lanes after it. A distance equal
+          // to the threshold gets in when its index is smaller than the last
+          // entry's (ties by index, whatever the visiting order).
+          std::uint64_t below = lane_mask<Arch>(B::load_aligned(tmp) <= t) |
+                                (std::uint64_t{lane_mask<Arch>(B::load_aligned(tmp + L) <= t)} << L);
           while (below != 0) {
             const std::size_t l = static_cast<std::size_t>(__builtin_ctzll(below));
             below &= below - 1;
             const std::size_t col = p * NR + l;
-            if (tmp[l] < threshold[r] && col < q.count) {
-              insert_sorted<Arch>(list_d[r] + L, list_i[r] + L, chunks, tmp[l],
-                                  id_as_float(static_cast<std::uint32_t>(col)));
-              if (found[r] < keep) ++found[r];
+            if (col >= count) continue;
+            const float x = tmp[l];
+            const auto id = static_cast<float>(original(col));
+            const bool full = found[r] == keep;
+            if (x < threshold[r] || (full && x == threshold[r] && id < list_i[r][L + keep - 1])) {
+              insert_sorted<Arch>(list_d[r] + L, list_i[r] + L, chunks, x, id);
+              if (!full) ++found[r];
               threshold[r] = list_d[r][L + keep - 1];  // +inf until the list is full
             }
           }
         }
       }
       for (int r = 0; r < R; ++r) {
-        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = id_of(list_i[r][L + c]);
+        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = static_cast<std::uint32_t>(list_i[r][L + c]);
         // Re-rank the candidates by exact distance, ties by index.
-        const float* self = q.points + (row + r) * q.stride;
+        const float* self = point(row_id[r]);
         std::size_t n = 0;
         for (std::size_t c = 0; c < found[r]; ++c) {
           const std::uint32_t id = best_i[r][c];
-          const float* other = q.points + static_cast<std::size_t>(id) * q.stride;
-          const double d = exact_squared_distance(self, other, dim);
+          const double d = exact_squared_distance(self, point(id), dim);
           std::size_t pos = n++;
           while (pos > 0 && (exact[pos - 1] > d || (exact[pos - 1] == d && best_i[r][pos - 1] > id))) {
             exact[pos] = exact[pos - 1];
@@ -152,10 +250,10 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           best_i[r][pos] = id;
         }
         if (found[r] > k) found[r] = k;
-        std::uint32_t* out = q.idx + (row + r) * k;
+        std::uint32_t* out = q.idx + static_cast<std::size_t>(row_id[r]) * k;
         // Fewer than k points (or non-finite input): repeat the nearest, which
         // leaves every max over the neighbourhood unchanged.
-        const std::uint32_t fill = found[r] > 0 ? best_i[r][0] : static_cast<std::uint32_t>(row + r);
+        const std::uint32_t fill = found[r] > 0 ? best_i[r][0] : row_id[r];
         for (std::size_t j = 0; j < k; ++j) out[j] = j < found[r] ? best_i[r][j] : fill;
       }
     });

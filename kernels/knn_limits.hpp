@@ -8,6 +8,8 @@ namespace sarmap::kernels {
 
 inline constexpr std::size_t kKnnMaxK = 64;
 inline constexpr std::size_t kKnnMaxDim = 256;
+// Point indices travel through the kernel as float values, exact below 2^24.
+inline constexpr std::size_t kKnnMaxCount = std::size_t{1} << 24;
 // Candidates kept beyond k by the fast |b|^2 - 2a.b ranking, whose float
 // rounding (about 1e-7 of |a|^2) can swap near-equal neighbours; the final k
 // are chosen among them by exact differences in double, so the result is the

@@ -12,6 +12,7 @@
 #include "kernels/edge_conv.hpp"
 #include "kernels/gemm.hpp"
 #include "kernels/knn.hpp"
+#include "kernels/spatial_order.hpp"
 
 namespace {
 
@@ -46,6 +47,23 @@ void BM_Knn(benchmark::State& state, SimdLevel level) {
   std::vector<std::uint32_t> idx(kPoints * kK);
   sarmap::kernels::KnnWorkspace ws;
   for (auto _ : state) sarmap::kernels::knn(p.data(), dim, kPoints, dim, kK, level, ws, idx.data());
+  rate(state, 2.0 * kPoints * kPoints * dim);
+}
+
+// The same 3-D kNN in the order the network uses: the points sorted along a
+// Morton curve first (spatial_order(), timed with it).
+void BM_KnnSpatialOrder(benchmark::State& state, SimdLevel level) {
+  if (!setup(state, level)) return;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, state.range(0));
+  constexpr std::size_t dim = 3;
+  const auto p = random_floats(kPoints * dim, 1);
+  std::vector<std::uint32_t> idx(kPoints * kK), order(kPoints);
+  sarmap::kernels::KnnWorkspace ws;
+  sarmap::kernels::AlignedBuffer<std::uint64_t> keys;
+  for (auto _ : state) {
+    sarmap::kernels::spatial_order(p.data(), dim, kPoints, keys, order.data());
+    sarmap::kernels::knn(p.data(), dim, kPoints, dim, kK, level, ws, idx.data(), order.data());
+  }
   rate(state, 2.0 * kPoints * kPoints * dim);
 }
 
@@ -94,6 +112,7 @@ void BM_Gemm(benchmark::State& state, SimdLevel level) {
   BENCHMARK_CAPTURE(fn, avx512, SimdLevel::Avx512) args->Unit(benchmark::kMillisecond)->UseRealTime();
 
 SARMAP_LEVELS(BM_Knn, ->ArgNames({"dim", "threads"})->Args({3, 1})->Args({3, 2})->Args({64, 1})->Args({64, 2}))
+SARMAP_LEVELS(BM_KnnSpatialOrder, ->ArgName("threads")->Arg(1)->Arg(2))
 SARMAP_LEVELS(BM_EdgeConv, ->ArgName("threads")->Arg(1)->Arg(2))
 SARMAP_LEVELS(BM_GemmColumnMax, ->ArgName("threads")->Arg(1)->Arg(2))
 SARMAP_LEVELS(BM_Gemm, ->ArgName("threads")->Arg(1)->Arg(2))
