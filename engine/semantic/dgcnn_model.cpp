@@ -10,6 +10,7 @@
 #include "kernels/edge_conv.hpp"
 #include "kernels/gemm.hpp"
 #include "kernels/knn.hpp"
+#include "kernels/spatial_order.hpp"
 
 namespace sarmap {
 namespace {
@@ -155,10 +156,17 @@ void DgcnnModel::forward(const float* block, std::size_t n, float* logits, Dgcnn
   const float* knn_in = block + channels_ - 3;  // the first kNN uses the last three channels
   std::size_t knn_dim = 3;
   std::size_t col = 0;
+  // Every kNN visits the points in the spatial order of the first one's xyz:
+  // later layers' features are functions of the local neighbourhood, so
+  // neighbours in feature space are mostly near in space too, and the kernel
+  // meets them first (the neighbours do not depend on the order).
+  auto order_start = Clock::now();
+  ws.visit_order.resize(n);
+  kernels::spatial_order(knn_in, ld_in, n, ws.order_keys, ws.visit_order.data());
   for (int e = 0; e < 3; ++e) {
     const EdgeLayer& layer = edge_[e];
-    auto t0 = Clock::now();
-    kernels::knn(knn_in, ld_in, n, knn_dim, k, level_, ws.knn, ws.neighbours.data());
+    auto t0 = e == 0 ? order_start : Clock::now();
+    kernels::knn(knn_in, ld_in, n, knn_dim, k, level_, ws.knn, ws.neighbours.data(), ws.visit_order.data());
     auto t1 = Clock::now();
     const std::size_t ld_ab = 2 * layer.hidden;
     kernels::gemm_bias_act(in, ld_in, n, layer.split, 1.0f, ws.edge_terms.data(), ld_ab);

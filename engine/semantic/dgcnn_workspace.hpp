@@ -12,6 +12,8 @@ namespace sarmap {
 
 struct DgcnnWorkspace {
   kernels::KnnWorkspace knn;
+  kernels::AlignedBuffer<std::uint32_t> visit_order;  // n: the points in spatial order, for every kNN
+  kernels::AlignedBuffer<std::uint64_t> order_keys;   // n: scratch of spatial_order()
   kernels::AlignedBuffer<std::uint32_t> neighbours;  // n x k
   kernels::AlignedBuffer<float> edge_terms;         // n x 2E: [a | b] of an EdgeConv
   kernels::AlignedBuffer<float> local;              // n x (E1 + E2 + E3): [x1 | x2 | x3]
@@ -23,7 +25,9 @@ struct DgcnnWorkspace {
   // Bytes held by every buffer: a forward pass's working set besides the
   // weights (benchmarks report it per block size).
   std::size_t bytes() const {
-    return knn.panels.capacity_bytes() + knn.norms.capacity_bytes() + knn.centre.capacity_bytes() +
+    return knn.gathered.capacity_bytes() + knn.visited.capacity_bytes() + knn.panels.capacity_bytes() +
+           knn.norms.capacity_bytes() + knn.centre.capacity_bytes() + visit_order.capacity_bytes() +
+           order_keys.capacity_bytes() +
            neighbours.capacity_bytes() + edge_terms.capacity_bytes() + local.capacity_bytes() +
            global.capacity_bytes() + head_bias.capacity_bytes() + head1.capacity_bytes() + head2.capacity_bytes();
   }
