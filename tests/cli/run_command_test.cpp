@@ -191,7 +191,11 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
   EXPECT_GT(blocks(dir_ / "overlap"), blocks(dir_ / "plain"));
   const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "overlap" / "manifest.json"));
   EXPECT_DOUBLE_EQ(manifest.at("settings").at("block_stride").get<double>(), 0.5);
-  for (std::uint8_t label : read_point_cloud(dir_ / "overlap" / "semantic_points.ply").labels()) EXPECT_NE(label, 0);
+  // Keep the cloud in a variable: a range-for over a temporary's span would
+  // read freed memory (ASan caught exactly that here once).
+  const PointBuffer classified = read_point_cloud(dir_ / "overlap" / "semantic_points.ply");
+  ASSERT_TRUE(classified.has_labels());
+  for (std::uint8_t label : classified.labels()) EXPECT_NE(label, 0);
 
   r = run(" --block-stride 2", dir_ / "gaps");
   EXPECT_NE(r.exit_code, 0);
