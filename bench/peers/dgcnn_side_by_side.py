@@ -3,7 +3,9 @@
 # runs BM_DgcnnBlock of sarmap_semantic_bench and the PyTorch peer
 # (dgcnn_torch.py, with the allocator settings that make torch fastest here)
 # at each thread count, then prints both and the ratio; then kNN alone
-# (BM_Knn of sarmap_kernels_bench against the reference's matmul + topk).
+# (BM_Knn, input order, and BM_KnnSpatialOrder, the network's order, of
+# sarmap_kernels_bench against the reference's matmul + topk, whose time does
+# not depend on the points).
 #
 #   /usr/bin/python3 bench/peers/dgcnn_side_by_side.py --bench build/release/bench/semantic/sarmap_semantic_bench \
 #       --model datasets/models/ramps-dgcnn.safetensors --block BLOCK.npy
@@ -31,13 +33,13 @@ def sarmap_ms(bench, model, block, threads, simd):
     return runs[0]["real_time"]  # the benchmark reports milliseconds
 
 
-def sarmap_knn_ms(bench, dim, threads, simd):
-    out = subprocess.run([bench, f"--benchmark_filter=BM_Knn/{simd}/dim:{dim}/threads:{threads}/",
+def sarmap_knn_ms(bench, name, dim, threads, simd):
+    out = subprocess.run([bench, f"--benchmark_filter={name}/{simd}/dim:{dim}/threads:{threads}/",
                           "--benchmark_format=json", "--benchmark_min_time=0.5"],
                          check=True, capture_output=True, text=True).stdout
     runs = [b for b in json.loads(out)["benchmarks"] if b.get("run_type") == "iteration"]
     if not runs:
-        raise SystemExit(f"no BM_Knn/{simd}/dim:{dim}/threads:{threads} result")
+        raise SystemExit(f"no {name}/{simd}/dim:{dim}/threads:{threads} result")
     return runs[0]["real_time"]
 
 
@@ -81,7 +83,7 @@ def main(argv):
     parser.add_argument("--simd", default="avx512", help="sarmap's instruction set: sse4_2, avx2 or avx512")
     parser.add_argument("--threads", default="1,2")
     parser.add_argument("--knn-bench", default=os.path.join(ROOT, "build/release/bench/kernels/sarmap_kernels_bench"),
-                        help="also compare kNN alone (4096 random points, k 20) with this benchmark; '' skips it")
+                        help="also compare kNN alone (4096 points, k 20) with this benchmark; '' skips it")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         model, block = args.model, args.block
@@ -98,15 +100,18 @@ def main(argv):
             print(f"| {threads} | {ours:.1f} | {peer['ms_per_block']:.1f} | {peer['ms_per_block'] / ours:.1f}x | "
                   f"{', '.join(peer['blas']) or 'none found'} ({peer['openblas_threads']}) |", flush=True)
     if args.knn_bench:
-        print("\nkNN alone, 4096 random points, k 20 (PyTorch: matmul distances + topk, as the reference):")
-        print("| dim | threads | sarmap ms | PyTorch ms | speed-up |")
-        print("|---|---|---|---|---|")
+        print("\nkNN alone, 4096 points, k 20 (PyTorch: matmul distances + topk, as the reference). sarmap in input")
+        print("order on random points, and in the network's spatial order (order computed inside the timing) on")
+        print("a random 3-D cloud and on 64-d features that vary smoothly with its positions:")
+        print("| dim | threads | sarmap input order ms | sarmap spatial order ms | PyTorch ms | speed-up (input, spatial) |")
+        print("|---|---|---|---|---|---|")
         for dim in (3, 64):
             for threads in (int(t) for t in args.threads.split(",")):
-                ours = sarmap_knn_ms(args.knn_bench, dim, threads, args.simd)
+                plain = sarmap_knn_ms(args.knn_bench, "BM_Knn", dim, threads, args.simd)
+                ordered = sarmap_knn_ms(args.knn_bench, "BM_KnnSpatialOrder", dim, threads, args.simd)
                 peer = torch_knn_ms(dim, threads)
-                print(f"| {dim} | {threads} | {ours:.1f} | {peer:.1f} | {peer / ours:.1f}x |", flush=True)
-
+                print(f"| {dim} | {threads} | {plain:.1f} | {ordered:.1f} | {peer:.1f} | "
+                      f"{peer / plain:.1f}x, {peer / ordered:.1f}x |", flush=True)
 
 if __name__ == "__main__":
     main(sys.argv[1:])
