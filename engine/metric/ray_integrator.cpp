@@ -21,7 +21,8 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/metric/flat_key_index.hpp"
-#include "engine/metric/voxel_ray.hpp"
+#include "kernels/ray_marking.hpp"
+#include "kernels/simd_level.hpp"
 
 namespace sarmap::metric {
 
@@ -29,21 +30,38 @@ namespace {
 
 using BlockMask = std::array<std::uint64_t, kBlockVoxels / 64>;
 
+// One thread's misses for one scan: a mask per block its rays crossed, found
+// through the thread's own key index, so walks share nothing.
 struct ThreadRays {
   FlatKeyIndex blocks{4096};
   std::vector<BlockMask> miss;
+  std::uint64_t* miss_words = nullptr;  // miss.data() as words, for the marking kernel
   std::size_t visits = 0;
 
   void clear() {
     blocks.clear();
     miss.clear();
+    miss_words = nullptr;
     visits = 0;
   }
+  // kernels::BlockMaskSink::block_index: the mask of a block, created empty.
+  static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
+    auto& t = *static_cast<ThreadRays*>(self);
+    const std::uint32_t b = t.blocks.find_or_insert(pack(bx, by, bz));
+    if (b == t.miss.size()) {
+      t.miss.emplace_back();
+      t.miss_words = t.miss.front().data();
+    }
+    return b;
+  }
 };
+static_assert(kernels::kMarkBlockShift == kBlockShift && kernels::kMarkBlockWords == BlockMask{}.size(),
+              "the marking kernel's blocks are the map's blocks");
 
 struct RayEnd {
   double x, y, z;  // voxel units
 };
+static_assert(sizeof(RayEnd) == 3 * sizeof(double), "ray ends are read as packed xyz triples");
 
 }  // namespace
 
@@ -195,33 +213,17 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   }
   stats.rays = s.ray_ends.size();
 
-  // Pass 2: parallel walks into per-thread miss masks.
+  // Pass 2: parallel walks into per-thread miss masks (several rays per step
+  // in SIMD lanes where the CPU has AVX2 or AVX-512).
   for (ThreadRays& t : s.threads) t.clear();
+  const kernels::SimdLevel level = kernels::active_simd_level();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       ThreadRays& t = s.threads.local();
-                      std::uint64_t cached_word = ~std::uint64_t{0};
-                      std::uint64_t* mask = nullptr;
-                      const auto mark = [&](const VoxelKey& v) {
-                        const std::uint64_t word =
-                            pack(v.x >> kBlockShift, v.y >> kBlockShift, v.z >> kBlockShift);
-                        if (word != cached_word) {
-                          const std::uint32_t b = t.blocks.find_or_insert(word);
-                          if (b == t.miss.size()) t.miss.emplace_back();
-                          mask = t.miss[b].data();
-                          cached_word = word;
-                        }
-                        const int l = local_index(v);
-                        mask[l >> 6] |= std::uint64_t{1} << (l & 63);
-                        return true;
-                      };
+                      const kernels::BlockMaskSink sink{&ThreadRays::block_index, &t, &t.miss_words};
                       const double start[3] = {o.x, o.y, o.z};
-                      std::size_t visits = 0;
-                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                        const double end[3] = {s.ray_ends[r].x, s.ray_ends[r].y, s.ray_ends[r].z};
-                        visits += walk_ray(start, end, mark);
-                      }
-                      t.visits += visits;
+                      t.visits += kernels::mark_ray_cells(start, &s.ray_ends[range.begin()].x, range.size(), sink,
+                                                          level);
                     });
 
   // Pass 3: merge, add hits, create blocks in sorted order.

@@ -1,0 +1,44 @@
+#include "kernels/ray_marking.hpp"
+
+#include <stdexcept>
+
+#include "kernels/dda_walk.hpp"
+
+namespace sarmap::kernels {
+
+std::size_t mark_ray_cells_reference(const double start[3], const double* ends, std::size_t count,
+                                     const BlockMaskSink& sink) {
+  std::size_t visits = 0;
+  // A ray stays in one block for several cells: ask the sink only on a change
+  // (indices are stable; only the mask array may move, so it is re-read).
+  std::int32_t cached[3] = {0, 0, 0};
+  std::uint32_t b = 0;
+  bool have_block = false;
+  for (std::size_t r = 0; r < count; ++r) {
+    visits += dda_walk(start, ends + 3 * r, [&](std::int32_t x, std::int32_t y, std::int32_t z) {
+      const std::int32_t bx = x >> kMarkBlockShift, by = y >> kMarkBlockShift, bz = z >> kMarkBlockShift;
+      if (!have_block || bx != cached[0] || by != cached[1] || bz != cached[2]) {
+        b = sink.block_index(sink.context, bx, by, bz);
+        cached[0] = bx, cached[1] = by, cached[2] = bz;
+        have_block = true;
+      }
+      const int local = (x & 7) | ((y & 7) << 3) | ((z & 7) << 6);
+      (*sink.masks)[kMarkBlockWords * b + static_cast<std::size_t>(local >> 6)] |= std::uint64_t{1} << (local & 63);
+      return true;
+    });
+  }
+  return visits;
+}
+
+std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_t count, const BlockMaskSink& sink,
+                           SimdLevel level) {
+  if (!simd_level_supported(level)) throw std::invalid_argument("mark_ray_cells: instruction set not supported");
+  switch (level) {
+    case SimdLevel::Avx512: return detail::mark_ray_cells_avx512(start, ends, count, sink);
+    case SimdLevel::Avx2: return detail::mark_ray_cells_avx2(start, ends, count, sink);
+    case SimdLevel::Sse42: break;  // two lanes of doubles do not pay for the lane bookkeeping
+  }
+  return mark_ray_cells_reference(start, ends, count, sink);
+}
+
+}  // namespace sarmap::kernels

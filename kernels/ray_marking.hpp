@@ -1,0 +1,47 @@
+// Marks every cell that rays from one start point pass through (dda_walk.hpp's
+// exact DDA, end cells excluded) as a bit in 8 x 8 x 8-cell block masks: the
+// free-space pass of ray integration. The vector versions walk one ray per
+// SIMD lane (8 on AVX-512, 4 on AVX2), so the DDA's serial min-compare-select
+// chain is paid once per step of eight rays instead of once per cell; the
+// bits are the same as walking each ray alone.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "kernels/simd_level.hpp"
+
+namespace sarmap::kernels {
+
+inline constexpr int kMarkBlockShift = 3;                     // blocks of 8 cells per axis
+inline constexpr std::size_t kMarkBlockWords = 512 / 64;     // one bit per cell of a block
+
+// Where the bits go. block_index(context, bx, by, bz) returns the index of the
+// block at block coordinates (cell >> 3 per axis), creating it if needed;
+// its 8 mask words are (*masks)[8 * index .. 8 * index + 7]. block_index may
+// move the mask array (it grows), so *masks is re-read after every call.
+struct BlockMaskSink {
+  std::uint32_t (*block_index)(void* context, std::int32_t bx, std::int32_t by, std::int32_t bz);
+  void* context;
+  std::uint64_t* const* masks;
+};
+
+// Walks the rays from start to ends[3 * r .. 3 * r + 2] for r < count (cell
+// units, all finite) and sets the bit of every cell visited. Returns the
+// number of cells visited (repeats included). The order in which cells are
+// marked differs between levels; the bits set do not.
+std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_t count, const BlockMaskSink& sink,
+                           SimdLevel level);
+
+// One ray at a time with dda_walk(): the reference, and the SSE4.2 path.
+std::size_t mark_ray_cells_reference(const double start[3], const double* ends, std::size_t count,
+                                     const BlockMaskSink& sink);
+
+namespace detail {
+std::size_t mark_ray_cells_avx2(const double start[3], const double* ends, std::size_t count,
+                                const BlockMaskSink& sink);
+std::size_t mark_ray_cells_avx512(const double start[3], const double* ends, std::size_t count,
+                                  const BlockMaskSink& sink);
+}  // namespace detail
+
+}  // namespace sarmap::kernels

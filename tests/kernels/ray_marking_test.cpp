@@ -1,0 +1,130 @@
+// The ray-marking kernel at every instruction set against marking each ray's
+// dda_walk() cells one by one: random rays from inside and outside the
+// cells' grid, rays along axes and through cell edges and corners, rays that
+// stay in their start cell, negative coordinates, and batches whose lanes
+// finish at very different times.
+#include "kernels/ray_marking.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "kernels/dda_walk.hpp"
+#include "tests/kernels/kernel_test_support.hpp"
+
+namespace sarmap::kernels {
+namespace {
+
+using Cell = std::tuple<std::int32_t, std::int32_t, std::int32_t>;
+
+// A sink over an ordered map, and the cells its bits stand for.
+struct MaskTable {
+  std::map<Cell, std::uint32_t> index;
+  std::vector<Cell> blocks;
+  std::vector<std::uint64_t> words;
+  std::uint64_t* base = nullptr;
+
+  static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
+    auto& t = *static_cast<MaskTable*>(self);
+    const auto [it, inserted] = t.index.emplace(Cell{bx, by, bz}, static_cast<std::uint32_t>(t.blocks.size()));
+    if (inserted) {
+      t.blocks.push_back({bx, by, bz});
+      t.words.resize(t.words.size() + kMarkBlockWords, 0);
+      t.base = t.words.data();
+    }
+    return it->second;
+  }
+  BlockMaskSink sink() { return {&MaskTable::block_index, this, &base}; }
+
+  std::set<Cell> cells() const {
+    std::set<Cell> out;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const auto [bx, by, bz] = blocks[b];
+      for (int local = 0; local < 512; ++local) {
+        if ((words[b * kMarkBlockWords + local / 64] >> (local % 64)) & 1) {
+          out.insert({bx * 8 + (local & 7), by * 8 + ((local >> 3) & 7), bz * 8 + (local >> 6)});
+        }
+      }
+    }
+    return out;
+  }
+};
+
+std::set<Cell> walked_cells(const double start[3], const std::vector<double>& ends, std::size_t* visits) {
+  std::set<Cell> out;
+  *visits = 0;
+  for (std::size_t r = 0; r < ends.size() / 3; ++r) {
+    *visits += dda_walk(start, &ends[3 * r], [&](std::int32_t x, std::int32_t y, std::int32_t z) {
+      out.insert({x, y, z});
+      return true;
+    });
+  }
+  return out;
+}
+
+void expect_same_cells(const std::array<double, 3>& start, const std::vector<double>& ends, const char* what) {
+  std::size_t expected_visits = 0;
+  const std::set<Cell> expected = walked_cells(start.data(), ends, &expected_visits);
+  {
+    MaskTable table;
+    EXPECT_EQ(mark_ray_cells_reference(start.data(), ends.data(), ends.size() / 3, table.sink()), expected_visits)
+        << what;
+    EXPECT_EQ(table.cells(), expected) << what << ": reference";
+  }
+  for (SimdLevel level : test::supported_levels()) {
+    MaskTable table;
+    EXPECT_EQ(mark_ray_cells(start.data(), ends.data(), ends.size() / 3, table.sink(), level), expected_visits)
+        << what << " at " << to_string(level);
+    EXPECT_EQ(table.cells(), expected) << what << " at " << to_string(level);
+  }
+}
+
+TEST(RayMarking, RandomRaysMarkTheCellsOfEveryWalk) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> around(-40.0, 40.0);
+  for (const std::array<double, 3> start : {std::array<double, 3>{0.3, 0.6, 0.1}, std::array<double, 3>{-17.25, 3.5, 9.0},
+                                            std::array<double, 3>{1000.5, -2000.5, 7.75}}) {
+    std::vector<double> ends;
+    for (int r = 0; r < 1001; ++r) {
+      for (int i = 0; i < 3; ++i) ends.push_back(start[i] + around(rng) * (r % 7 == 0 ? 0.05 : 1.0));
+    }
+    expect_same_cells(start, ends, "random rays");
+  }
+}
+
+TEST(RayMarking, AxesEdgesCornersAndEmptyRays) {
+  const std::array<double, 3> start{0.5, 0.5, 0.5};
+  std::vector<double> ends = {
+      10.5, 0.5, 0.5,   -9.5, 0.5, 0.5,  0.5, 12.5, 0.5, 0.5, 0.5, -7.5,  // along axes
+      8.5, 8.5, 0.5,    -6.5, 6.5, 0.5,  5.5, 5.5, 5.5, -4.5, -4.5, -4.5,  // through edges and corners
+      0.9, 0.1, 0.7,    0.5, 0.5, 0.5,                                     // never leave the start cell
+      16.5, 8.5, -7.5,  3.0, 3.0, 3.0,   -3.0, 2.0, 1.0};                   // ends on faces
+  expect_same_cells(start, ends, "hand-picked rays");
+  // A corner start: every ray leaves through a grid vertex.
+  expect_same_cells({0.0, 0.0, 0.0}, ends, "rays from a grid vertex");
+}
+
+TEST(RayMarking, LanesOfVeryDifferentLengthsAndFewRays) {
+  const std::array<double, 3> start{2.25, -3.5, 1.125};
+  std::vector<double> ends;
+  for (int r = 0; r < 37; ++r) {
+    const double length = (r % 5 == 0) ? 300.0 : 1.5 + r % 3;
+    const double a = 0.37 * r, b = 0.11 * r;
+    ends.insert(ends.end(), {start[0] + length * std::cos(a) * std::cos(b), start[1] + length * std::sin(a) * std::cos(b),
+                             start[2] + length * std::sin(b)});
+  }
+  expect_same_cells(start, ends, "mixed lengths");
+  for (std::size_t n : {0u, 1u, 3u, 9u}) {
+    expect_same_cells(start, std::vector<double>(ends.begin(), ends.begin() + 3 * n), "a few rays");
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::kernels
