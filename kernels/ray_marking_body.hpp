@@ -128,12 +128,16 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
                                            static_cast<std::int32_t>(new_block[step_buffer][2][lane]));
     }
     std::uint64_t* const masks = *sink.masks;
-    for (unsigned bits = marking[step_buffer]; bits != 0; bits &= bits - 1) {
-      const int lane = std::countr_zero(bits);
+    // Every lane, without branches (nearly all are marking): a lane that is
+    // not ORs nothing into its last word.
+    const unsigned marking_lanes = marking[step_buffer];
+    if (marking_lanes == 0) return;  // the first step: no marks and maybe no masks yet
+#pragma GCC unroll 8
+    for (std::size_t lane = 0; lane < N; ++lane) {
       const auto cell = static_cast<unsigned>(local[step_buffer][lane]);
-      masks[kMarkBlockWords * block_index[lane] + (cell >> 6)] |= std::uint64_t{1} << (cell & 63);
+      const std::uint64_t bit = static_cast<std::uint64_t>((marking_lanes >> lane) & 1u) << (cell & 63);
+      masks[kMarkBlockWords * block_index[lane] + (cell >> 6)] |= bit;
     }
-    moved[step_buffer] = marking[step_buffer] = 0;
   };
   while (true) {
     // Mark the lanes' current cells. Cell coordinates are integers in
