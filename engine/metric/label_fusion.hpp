@@ -34,6 +34,17 @@ struct ClassObservation {
   std::array<float, kClassCount> score_sums{};      // sums of per-class probabilities
   bool has_scores = false;
   std::uint32_t points = 0;
+
+  // Folds in the observations of more points of the same voxel.
+  void add(const ClassObservation& more) {
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      const unsigned sum = static_cast<unsigned>(counts[c]) + more.counts[c];
+      counts[c] = static_cast<std::uint16_t>(sum < 0xffffu ? sum : 0xffffu);
+      score_sums[c] += more.score_sums[c];
+    }
+    has_scores = has_scores || more.has_scores;
+    points += more.points;
+  }
 };
 
 class LabelFusion {

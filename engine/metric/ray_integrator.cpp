@@ -65,7 +65,35 @@ static_assert(sizeof(RayEnd) == 3 * sizeof(double), "ray ends are read as packed
 
 }  // namespace
 
+namespace {
+
+// Pass 1's work on one stretch of the scan's points: their distinct end
+// voxels in order of first appearance, with the observations, and (when not
+// discretising) their rays in point order.
+struct PointChunk {
+  FlatKeyIndex index{1024};
+  std::vector<VoxelKey> keys;
+  std::vector<ClassObservation> observations;
+  std::vector<RayEnd> rays;
+  std::size_t rejected = 0;
+
+  void clear() {
+    index.clear();
+    keys.clear();
+    observations.clear();
+    rays.clear();
+    rejected = 0;
+  }
+};
+
+// Points per chunk: fixed, so the chunks (and the float sums of scores in
+// them) are the same for any thread count.
+constexpr std::size_t kChunkPoints = 16384;
+
+}  // namespace
+
 struct RayIntegrator::Scratch {
+  std::vector<PointChunk> chunks;
   FlatKeyIndex end_index{65536};
   std::vector<VoxelKey> end_keys;
   std::vector<ClassObservation> observations;
@@ -163,7 +191,9 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   // Range is measured in voxel units to stay in one coordinate system.
   const double max_range_v = max_range * inv_res;
 
-  // Pass 1: distinct end voxels, their observations, and the rays.
+  // Pass 1: distinct end voxels, their observations, and the rays; in
+  // parallel over fixed chunks of points, merged in chunk order, so the end
+  // voxels keep the order of their first point whatever the thread count.
   s.end_index.clear();
   s.end_keys.clear();
   s.observations.clear();
@@ -173,42 +203,67 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   const auto beyond = [&](double dx, double dy, double dz) {
     return max_range > 0 && std::sqrt(dx * dx + dy * dy + dz * dz) * res > max_range;
   };
-  const auto add_ray = [&](const RayEnd& end) -> bool {
+  // Appends the ray to end (cut at the max range, or dropped when cutting is
+  // off); returns whether end itself is within range, i.e. a hit.
+  const auto add_ray = [&](std::vector<RayEnd>& rays, const RayEnd& end) -> bool {
     const double dx = end.x - o.x, dy = end.y - o.y, dz = end.z - o.z;
     if (!beyond(dx, dy, dz)) {
-      s.ray_ends.push_back(end);
+      rays.push_back(end);
       return true;
     }
     if (settings_.clear_beyond_max_range) {
       const double f = max_range_v / std::sqrt(dx * dx + dy * dy + dz * dz);
-      s.ray_ends.push_back({o.x + dx * f, o.y + dy * f, o.z + dz * f});
+      rays.push_back({o.x + dx * f, o.y + dy * f, o.z + dz * f});
     }
     return false;
   };
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const double x = xs[i], y = ys[i], z = zs[i];
-    if (!within_map_limits(x, y, z)) {
-      ++stats.points_rejected;
-      continue;
+  const std::size_t chunk_count = (points.size() + kChunkPoints - 1) / kChunkPoints;
+  if (s.chunks.size() < chunk_count) s.chunks.resize(chunk_count);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      PointChunk& chunk = s.chunks[c];
+      chunk.clear();
+      const std::size_t end = std::min(points.size(), (c + 1) * kChunkPoints);
+      for (std::size_t i = c * kChunkPoints; i < end; ++i) {
+        const double x = xs[i], y = ys[i], z = zs[i];
+        if (!within_map_limits(x, y, z)) {
+          ++chunk.rejected;
+          continue;
+        }
+        const VoxelKey key = key_of(x, y, z, inv_res);
+        if (!settings_.discretize) {
+          // Every point casts its own ray; only those in range are hits.
+          if (!add_ray(chunk.rays, {x * inv_res, y * inv_res, z * inv_res})) continue;
+        }
+        const std::uint32_t u = chunk.index.find_or_insert(pack(key));
+        if (u == chunk.keys.size()) {
+          chunk.keys.push_back(key);
+          chunk.observations.emplace_back();
+        }
+        add_observation(chunk.observations[u], points, i, scores);
+      }
     }
-    const VoxelKey key = key_of(x, y, z, inv_res);
-    if (!settings_.discretize) {
-      // Every point casts its own ray; only those in range are hits.
-      if (!add_ray({x * inv_res, y * inv_res, z * inv_res})) continue;
+  });
+  for (std::size_t c = 0; c < chunk_count; ++c) {
+    const PointChunk& chunk = s.chunks[c];
+    stats.points_rejected += chunk.rejected;
+    s.ray_ends.insert(s.ray_ends.end(), chunk.rays.begin(), chunk.rays.end());
+    for (std::size_t u = 0; u < chunk.keys.size(); ++u) {
+      const std::uint32_t g = s.end_index.find_or_insert(pack(chunk.keys[u]));
+      if (g == s.end_keys.size()) {
+        s.end_keys.push_back(chunk.keys[u]);
+        s.observations.push_back(chunk.observations[u]);
+      } else {
+        s.observations[g].add(chunk.observations[u]);
+      }
     }
-    const std::uint32_t u = s.end_index.find_or_insert(pack(key));
-    if (u == s.end_keys.size()) {
-      s.end_keys.push_back(key);
-      s.observations.emplace_back();
-    }
-    add_observation(s.observations[u], points, i, scores);
   }
   stats.end_voxels = s.end_keys.size();
   s.end_in_range.assign(s.end_keys.size(), 1);
   if (settings_.discretize) {
     for (std::size_t u = 0; u < s.end_keys.size(); ++u) {
       const VoxelKey& k = s.end_keys[u];
-      s.end_in_range[u] = add_ray({k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
+      s.end_in_range[u] = add_ray(s.ray_ends, {k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
     }
   }
   stats.rays = s.ray_ends.size();

@@ -257,5 +257,29 @@ TEST(RayIntegrator, OneAndTwoThreadsGiveBitIdenticalMapsEqualToTheReference) {
   }
 }
 
+// Scans large enough for several of pass 1's fixed chunks of points, whose
+// end voxels and observations are merged across chunks: 1 and 2 threads and
+// the serial reference give the same map.
+TEST(RayIntegrator, LargeScansSpanningSeveralPointChunksMatchTheReference) {
+  testing::SyntheticRoom room;
+  MetricMap one(settings_at_resolution(0.05)), two(settings_at_resolution(0.05)),
+      reference(settings_at_resolution(0.05));
+  RayIntegrator a, b;
+  tbb::task_arena arena1(1), arena2(2);
+  for (int f = 0; f < 3; ++f) {
+    const auto scan = room.frame(f, 3, 256, 192);
+    ASSERT_GT(scan.points.size(), 40000u);  // three chunks or more
+    IntegrationStats s1, s2;
+    arena1.execute([&] { s1 = a.integrate(one, scan.points, scan.origin); });
+    arena2.execute([&] { s2 = b.integrate(two, scan.points, scan.origin); });
+    reference_integrate(reference, scan.points, scan.origin);
+    EXPECT_EQ(s1.end_voxels, s2.end_voxels);
+    EXPECT_EQ(s1.voxel_visits, s2.voxel_visits);
+  }
+  EXPECT_TRUE(maps_identical(one, two));
+  EXPECT_TRUE(maps_identical(one, reference));
+  EXPECT_GT(one.counts().occupied, 1000u);
+}
+
 }  // namespace
 }  // namespace sarmap::metric
