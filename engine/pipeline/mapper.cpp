@@ -31,6 +31,7 @@ Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
   }
+  metric::validate(config.bounds);
   semantic_points_.enable_labels();
 }
 
@@ -74,6 +75,11 @@ void Mapper::integrate(Scan& scan) {
     profile_.add_count("metric", "rays", static_cast<double>(s.rays));
     profile_.add_count("metric", "voxel_visits", static_cast<double>(s.voxel_visits));
     profile_.add_count("metric", "voxels_updated", static_cast<double>(s.hits + s.misses));
+    if (config_.bounds.limited()) {
+      const std::size_t dropped = metric::apply_bounds(map_, scan.origin, config_.bounds);
+      blocks_dropped_ += dropped;
+      profile_.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
+    }
   }
   keep_semantic_points(scan.points);
 }

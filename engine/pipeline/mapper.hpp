@@ -12,6 +12,7 @@
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
 #include "engine/core/stage_profile.hpp"
+#include "engine/metric/map_bounds.hpp"
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/pipeline/point_classifier.hpp"
@@ -28,6 +29,8 @@ struct MapperConfig {
   ClassifierConfig classifier;
   metric::MetricMapSettings map;  // its resolution is replaced by `voxel`
   metric::IntegratorSettings integrator;  // its max_range is replaced as above
+  // Keep the map bounded around the sensor (radius, block budget); unlimited by default.
+  metric::MapBounds bounds;
   // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
   double semantic_points_voxel = 0.05;
 };
@@ -48,6 +51,8 @@ class Mapper {
   double max_range() const { return integrator_.settings().max_range; }
   const metric::MetricMap& metric_map() const { return map_; }
   const metric::IntegrationStats& metric_stats() const { return stats_; }
+  // Blocks dropped so far by the map bounds.
+  std::size_t blocks_dropped() const { return blocks_dropped_; }
   const PointClassifier& classifier() const { return *classifier_; }
   // Classified points kept so far: label = prediction, its per-class scores
   // when the classifier gives them, gt_label = the input's label when it had one.
@@ -62,6 +67,7 @@ class Mapper {
   metric::MetricMap map_;
   metric::RayIntegrator integrator_;
   metric::IntegrationStats stats_;
+  std::size_t blocks_dropped_ = 0;
   std::unique_ptr<PointClassifier> classifier_;
   StageProfile profile_;
   PointBuffer semantic_points_;

@@ -205,6 +205,34 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
   EXPECT_NE(r.err.find("--block-stride"), std::string::npos) << r.err;
 }
 
+// Map bounds from the command line: the saved map holds no more blocks than
+// allowed, the profile counts what was dropped, the manifest records the
+// settings, and a negative radius is refused by name.
+TEST_F(RunCommand, MapBoundsLimitTheSavedMap) {
+  const auto run = [&](const std::string& extra, const fs::path& out) {
+    return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) +
+                       " --voxel 0.05 --classifier labels --quiet" + extra,
+                   dir_);
+  };
+  auto r = run("", dir_ / "all");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t all_blocks = metric::load_map(dir_ / "all" / "map.sarmap").blocks().block_count();
+  ASSERT_GT(all_blocks, 4u);
+  const std::size_t budget = all_blocks / 2;
+  r = run(" --max-blocks " + std::to_string(budget) + " --keep-radius 50", dir_ / "bounded");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LE(metric::load_map(dir_ / "bounded" / "map.sarmap").blocks().block_count(), budget);
+  const auto profile = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "profile.json"));
+  EXPECT_GT(profile.at("stages").at("metric").at("blocks_dropped").get<double>(), 0.0);
+  const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "manifest.json"));
+  EXPECT_EQ(manifest.at("settings").at("max_blocks").get<std::size_t>(), budget);
+  EXPECT_DOUBLE_EQ(manifest.at("settings").at("keep_radius").get<double>(), 50.0);
+
+  r = run(" --keep-radius -2", dir_ / "negative");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--keep-radius"), std::string::npos) << r.err;
+}
+
 TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {
   fs::create_directories(dir_ / "tum/depth");
   for (int f = 0; f < 2; ++f) {

@@ -42,6 +42,9 @@ RunSummary run_pipeline(const RunOptions& o) {
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
+  if (!(o.keep_radius >= 0)) throw Error(ErrorCode::InvalidArgument, "run: --keep-radius must be >= 0");
+  config.bounds.keep_radius = o.keep_radius;
+  config.bounds.max_blocks = o.max_blocks;
   config.classifier.kind = o.classifier;
   config.classifier.dgcnn.min_points = o.min_block_points;
   if (o.block_stride < 0) throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be >= 0");
@@ -92,6 +95,8 @@ RunSummary run_pipeline(const RunOptions& o) {
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
+                          {"keep_radius", o.keep_radius},
+                          {"max_blocks", o.max_blocks},
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
                                                ? "bayesian"
                                                : "histogram"}});
@@ -145,6 +150,13 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
+      ->capture_default_str();
+  cmd->add_option("--keep-radius", o->keep_radius,
+                  "After each scan, forget map blocks farther than this from the sensor (m); 0 = keep all")
+      ->capture_default_str();
+  cmd->add_option("--max-blocks", o->max_blocks,
+                  "Keep at most this many map blocks (8^3 voxels each), forgetting the farthest from the "
+                  "sensor first; 0 = no limit")
       ->capture_default_str();
   add_sequence_input_options(cmd, o->sequence);
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");

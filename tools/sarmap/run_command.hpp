@@ -25,6 +25,8 @@ struct RunOptions {
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = the model's block size
   int threads = 0;
   double max_range = 0.0;
+  double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
+  std::size_t max_blocks = 0;   // keep at most this many map blocks, the farthest dropped first; 0 = no limit
   bool quiet = false;
 };
 
