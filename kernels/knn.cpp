@@ -100,6 +100,8 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
                              workspace.centre.data(),
                              workspace.panel_boxes.data(),
                              workspace.panel_max_radius.data(),
+                             *std::max_element(workspace.panel_max_radius.data(),
+                                               workspace.panel_max_radius.data() + workspace.panel_max_radius.size()),
                              idx,
                              visit_order};
   const detail::KnnRowsFn fn = rows_fn(level);

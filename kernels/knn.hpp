@@ -38,8 +38,8 @@ struct KnnWorkspace {
 void knn(const float* points, std::size_t stride, std::size_t count, std::size_t dim, std::size_t k, SimdLevel level,
          KnnWorkspace& workspace, std::uint32_t* idx, const std::uint32_t* visit_order = nullptr);
 
-// Scalar reference: exact differences in double, ties by index. The kernel
-// gives the same lists unless float rounding moves a point across kKnnExtra ranks.
+// Scalar reference: exact differences in double, ties by index. knn() gives
+// the same lists.
 void knn_reference(const float* points, std::size_t stride, std::size_t count, std::size_t dim, std::size_t k,
                    std::uint32_t* idx);
 

@@ -21,6 +21,7 @@ struct KnnArgs {
   // a tile of rows skips a panel that cannot hold a neighbour of any row.
   const float* panel_boxes = nullptr;
   const float* panel_max_radius = nullptr;
+  float max_radius = 0.0f;  // the largest of panel_max_radius: every point's length, rounded up
   std::uint32_t* idx = nullptr;   // count x k, rows and ids in the caller's indices
   // Caller's index of each position of the panels (points packed in a visit
   // order), or nullptr when the panels hold the points in the caller's order.

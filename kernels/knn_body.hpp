@@ -6,8 +6,10 @@
 // branches) and a vector compare against the current k-th distance skips
 // most of a tile without touching the list. The list keeps
 // kKnnExtra more candidates than k, and the final k are chosen among them by
-// exact distances (double, the reference's arithmetic), so the neighbours do
-// not depend on the instruction set's rounding.
+// exact distances (double, the reference's arithmetic). A row whose list
+// cannot be proved to hold its k nearest (a near tie across the list's end
+// that float rounding may have reordered) is redone exactly over all points,
+// so the neighbours are always the reference's.
 //
 // Each chunk of rows starts at its own panel and wraps around: when the points
 // come in a spatial order (knn.hpp's visit order), the first panels hold the
@@ -151,6 +153,33 @@ inline double exact_squared_distance_wide(const float* a, const float* b, std::s
   }
 #endif
   return exact_squared_distance(a, b, dim);
+}
+
+// The k nearest of one row by exact distance to every point, ties by index
+// (the reference's answer): the fallback for a row whose candidates the fast
+// ranking cannot prove complete. Non-finite distances are never neighbours,
+// as in the fast path.
+template <class Arch>
+void exact_row(const detail::KnnArgs& q, std::uint32_t self_id, std::uint32_t* out) {
+  const std::size_t k = q.k, dim = q.dim;
+  double best_d[kKnnMaxK];
+  std::uint32_t best_i[kKnnMaxK];
+  std::size_t n = 0;
+  const float* self = q.points + static_cast<std::size_t>(self_id) * q.stride;
+  for (std::size_t j = 0; j < q.count; ++j) {
+    const double d = exact_squared_distance_wide<Arch>(self, q.points + j * q.stride, dim);
+    if (!(d < std::numeric_limits<double>::infinity())) continue;
+    if (n == k && !(d < best_d[k - 1])) continue;  // j ascends: an equal distance keeps the smaller index
+    std::size_t pos = n < k ? n++ : k - 1;
+    for (; pos > 0 && best_d[pos - 1] > d; --pos) {
+      best_d[pos] = best_d[pos - 1];
+      best_i[pos] = best_i[pos - 1];
+    }
+    best_d[pos] = d;
+    best_i[pos] = static_cast<std::uint32_t>(j);
+  }
+  const std::uint32_t fill = n > 0 ? best_i[0] : self_id;
+  for (std::size_t j = 0; j < k; ++j) out[j] = j < n ? best_i[j] : fill;
 }
 
 template <class Arch>
@@ -305,8 +334,26 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           exact[pos] = d;
           best_i[r][pos] = id;
         }
-        if (found[r] > k) found[r] = k;
         std::uint32_t* out = q.idx + static_cast<std::size_t>(row_id[r]) * k;
+        // The candidates are proved to hold the k nearest when every point
+        // left out is farther than the k-th: a point outside the list ranked
+        // at or above its last entry, so its true squared distance is at
+        // least that rank + |a|^2 less the rounding allowance. Otherwise (a
+        // near tie across the list's end, which rounding might have
+        // reordered) the row is done exactly over all points.
+        // (The 2^-40 covers the double sums' own rounding.)
+        if (found[r] == keep && keep < count) {
+          const double reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);
+          const double excluded_floor =
+              static_cast<double>(list_d[r][L + keep - 1]) + row_norm[r] - slack * reach * reach;
+          const bool proved = exact[k - 1] * (1.0 + 0x1p-40) < excluded_floor;
+          // A non-finite floor comes from non-finite input, which keeps the fast lists.
+          if (!proved && std::isfinite(excluded_floor)) {
+            exact_row<Arch>(q, row_id[r], out);
+            continue;
+          }
+        }
+        if (found[r] > k) found[r] = k;
         // Fewer than k points (or non-finite input): repeat the nearest, which
         // leaves every max over the neighbourhood unchanged.
         const std::uint32_t fill = found[r] > 0 ? best_i[r][0] : row_id[r];

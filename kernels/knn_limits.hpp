@@ -12,8 +12,10 @@ inline constexpr std::size_t kKnnMaxDim = 256;
 inline constexpr std::size_t kKnnMaxCount = std::size_t{1} << 24;
 // Candidates kept beyond k by the fast |b|^2 - 2a.b ranking, whose float
 // rounding (about 1e-7 of |a|^2) can swap near-equal neighbours; the final k
-// are chosen among them by exact differences in double, so the result is the
-// exact k nearest whenever the rounding moves no point across 8 ranks.
+// are chosen among them by exact differences in double. A row is redone over
+// all points when the last candidate is not provably farther than the k-th
+// (near or exact ties, e.g. a sparse block's repeated points: 0.6 % of rows
+// in the demo's blocks; 3.9 % with 4 extra, 0.007 % with 16).
 inline constexpr std::size_t kKnnExtra = 8;
 
 }  // namespace sarmap::kernels

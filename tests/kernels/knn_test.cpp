@@ -92,6 +92,7 @@ TEST(Knn, StridedInputUsesOnlyTheGivenChannels) {
     std::vector<std::uint32_t> got(n * k);
     knn(p.data() + 3, 6, n, 3, k, level, ws, got.data());
     expect_equivalent(last3, n, 3, k, got, ref, 1e-5);
+    EXPECT_EQ(got, ref) << to_string(level);
   }
 }
 
@@ -103,6 +104,31 @@ TEST(Knn, DuplicatePointsBreakTiesByIndexExactly) {
     for (int x = 0; x < 6; ++x) {
       for (int y = 0; y < 5; ++y) {
         for (int z = 0; z < 4; ++z) p.insert(p.end(), {float(x), float(y), float(z)});
+      }
+    }
+  }
+  const std::size_t n = p.size() / 3, k = 20;
+  std::vector<std::uint32_t> ref(n * k);
+  knn_reference(p.data(), 3, n, 3, k, ref.data());
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data(), 3, n, 3, k, level, ws, got.data());
+    EXPECT_EQ(got, ref) << to_string(level);
+  }
+}
+
+TEST(Knn, NeighboursFarFromTheCentreAreExactWhereFloatRankingCannotTell) {
+  // Two small clusters 2 km apart: centred on their common mean, every
+  // coordinate is about 1000, so the float ranking |b|^2 - 2a.b rounds by
+  // about 1 while neighbours within a cluster differ by 1e-4. The fast
+  // candidates cannot be trusted here; the kernel must notice and still give
+  // the reference's exact lists.
+  std::vector<float> p;
+  for (float centre : {1000.0f, -1000.0f}) {
+    for (int x = 0; x < 7; ++x) {
+      for (int y = 0; y < 6; ++y) {
+        for (int z = 0; z < 5; ++z) p.insert(p.end(), {centre + 0.01f * x, 0.013f * y, 0.017f * z});
       }
     }
   }
