@@ -45,6 +45,19 @@ void expect_equivalent(const std::vector<float>& p, std::size_t n, std::size_t d
   }
 }
 
+// knn() at every instruction set gives exactly knn_reference()'s lists.
+void expect_reference_lists(const std::vector<float>& p, std::size_t dim, std::size_t k) {
+  const std::size_t n = p.size() / dim;
+  std::vector<std::uint32_t> ref(n * k);
+  knn_reference(p.data(), dim, n, dim, k, ref.data());
+  for (SimdLevel level : test::supported_levels()) {
+    KnnWorkspace ws;
+    std::vector<std::uint32_t> got(n * k);
+    knn(p.data(), dim, n, dim, k, level, ws, got.data());
+    EXPECT_EQ(got, ref) << to_string(level);
+  }
+}
+
 TEST(Knn, RandomPointsMatchReference) {
   // 13 and 70: the re-ranking's wide exact distance has a scalar tail past whole vectors.
   for (std::size_t dim : {3u, 64u, 5u, 13u, 70u}) {
@@ -107,15 +120,7 @@ TEST(Knn, DuplicatePointsBreakTiesByIndexExactly) {
       }
     }
   }
-  const std::size_t n = p.size() / 3, k = 20;
-  std::vector<std::uint32_t> ref(n * k);
-  knn_reference(p.data(), 3, n, 3, k, ref.data());
-  for (SimdLevel level : test::supported_levels()) {
-    KnnWorkspace ws;
-    std::vector<std::uint32_t> got(n * k);
-    knn(p.data(), 3, n, 3, k, level, ws, got.data());
-    EXPECT_EQ(got, ref) << to_string(level);
-  }
+  expect_reference_lists(p, 3, 20);
 }
 
 TEST(Knn, NeighboursFarFromTheCentreAreExactWhereFloatRankingCannotTell) {
@@ -132,15 +137,7 @@ TEST(Knn, NeighboursFarFromTheCentreAreExactWhereFloatRankingCannotTell) {
       }
     }
   }
-  const std::size_t n = p.size() / 3, k = 20;
-  std::vector<std::uint32_t> ref(n * k);
-  knn_reference(p.data(), 3, n, 3, k, ref.data());
-  for (SimdLevel level : test::supported_levels()) {
-    KnnWorkspace ws;
-    std::vector<std::uint32_t> got(n * k);
-    knn(p.data(), 3, n, 3, k, level, ws, got.data());
-    EXPECT_EQ(got, ref) << to_string(level);
-  }
+  expect_reference_lists(p, 3, 20);
 }
 
 TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
