@@ -6,14 +6,12 @@
 #include <iterator>
 #include <string>
 #include <unistd.h>
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::slurp;
 
 TEST(AtomicFileWriter, CommitReplacesTargetAndAbandonLeavesItIntact) {
   // Unique per process: ctest may run test processes in parallel.

@@ -8,22 +8,13 @@
 
 #include "engine/io/point_cloud_file.hpp"
 #include "point_cloud_test_support.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-void spit(const std::filesystem::path& p, const std::string& bytes) {
-  // A fresh file each time: ext4 flushes to disk when a file is truncated and
-  // rewritten, which would make this test take seconds.
-  std::filesystem::remove(p);
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
+using test::slurp;
+using test::spit;
 
 // Reads path and reports whether it failed with sarmap::Error; anything else
 // escaping (std::bad_alloc, std::length_error, ...) fails the test.

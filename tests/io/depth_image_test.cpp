@@ -14,9 +14,12 @@
 #include "error_message.hpp"
 #include "png_test_writer.hpp"
 #include "scratch_folder.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
+
+using test::slurp;
 
 using test::error_message;
 using ::testing::HasSubstr;
@@ -50,11 +53,6 @@ TEST(DepthPng, Rejects8BitAndColourImagesByName) {
   msg = error_message([&] { read_depth_png(dir / "rgb.png"); });
   EXPECT_THAT(msg, HasSubstr("rgb.png"));
   EXPECT_THAT(msg, HasSubstr("RGB colour"));
-}
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
 }
 
 TEST(DepthPng, TruncatedFileIsAnErrorAtEveryCutPoint) {

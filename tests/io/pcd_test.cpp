@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "point_cloud_test_support.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -17,13 +18,9 @@ namespace {
 using test::data_path;
 using test::expect_same_cloud;
 using test::make_cloud;
+using test::slurp;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 struct Encoding {
   const char* name;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "point_cloud_test_support.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -18,18 +19,10 @@ namespace {
 using test::data_path;
 using test::expect_same_cloud;
 using test::make_cloud;
+using test::slurp;
+using test::spit;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-void spit(const std::filesystem::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
 
 class PlyEncodings : public ::testing::TestWithParam<bool> {};
 

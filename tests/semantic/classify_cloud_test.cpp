@@ -12,9 +12,12 @@
 #include <string>
 
 #include "engine/io/point_cloud_file.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
+
+using test::slurp;
 
 namespace fs = std::filesystem;
 const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
@@ -22,11 +25,6 @@ const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
 int run(const std::string& args, const fs::path& err) {
   const std::string cmd = std::string(SARMAP_CLI_PATH) + " classify " + args + " > /dev/null 2> " + err.string();
   return std::system(cmd.c_str());
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {

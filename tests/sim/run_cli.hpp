@@ -11,19 +11,16 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "tests/file_bytes.hpp"
+
 namespace sarmap::testing {
+
+using sarmap::test::slurp;
 
 struct CliResult {
   int exit_code = -1;
   std::string out, err;
 };
-
-inline std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // `args` is appended to the binary's path as is (quote paths with spaces).
 inline CliResult run_cli(const std::string& args, const std::filesystem::path& scratch) {
