@@ -8,7 +8,7 @@
 // kKnnExtra more candidates than k, and the final k are chosen among them by
 // exact distances (double, the reference's arithmetic). A row whose list
 // cannot be proved to hold its k nearest (a near tie across the list's end
-// that float rounding may have reordered) is redone exactly over all points,
+// that float rounding may have reordered) is redone exactly,
 // so the neighbours are always the reference's.
 //
 // Each chunk of rows starts at its own panel and wraps around: when the points
@@ -155,28 +155,87 @@ inline double exact_squared_distance_wide(const float* a, const float* b, std::s
   return exact_squared_distance(a, b, dim);
 }
 
+// Inserts (d, id) into the ascending list best_d / best_i of n entries (at
+// most k), ordered by distance and then index; returns the new n.
+inline std::size_t insert_exact(double* best_d, std::uint32_t* best_i, std::size_t n, std::size_t k, double d,
+                                std::uint32_t id) {
+  const auto before = [&](std::size_t pos) { return best_d[pos] < d || (best_d[pos] == d && best_i[pos] < id); };
+  if (n == k && before(k - 1)) return n;
+  std::size_t pos = n < k ? n++ : k - 1;
+  for (; pos > 0 && !before(pos - 1); --pos) {
+    best_d[pos] = best_d[pos - 1];
+    best_i[pos] = best_i[pos - 1];
+  }
+  best_d[pos] = d;
+  best_i[pos] = id;
+  return n;
+}
+
 // The k nearest of one row by exact distance to every point, ties by index
-// (the reference's answer): the fallback for a row whose candidates the fast
-// ranking cannot prove complete. Non-finite distances are never neighbours,
-// as in the fast path.
+// (the reference's answer). Non-finite distances are never neighbours, as in
+// the fast path.
 template <class Arch>
 void exact_row(const detail::KnnArgs& q, std::uint32_t self_id, std::uint32_t* out) {
-  const std::size_t k = q.k, dim = q.dim;
+  const std::size_t k = q.k;
   double best_d[kKnnMaxK];
   std::uint32_t best_i[kKnnMaxK];
   std::size_t n = 0;
   const float* self = q.points + static_cast<std::size_t>(self_id) * q.stride;
   for (std::size_t j = 0; j < q.count; ++j) {
-    const double d = exact_squared_distance_wide<Arch>(self, q.points + j * q.stride, dim);
-    if (!(d < std::numeric_limits<double>::infinity())) continue;
-    if (n == k && !(d < best_d[k - 1])) continue;  // j ascends: an equal distance keeps the smaller index
-    std::size_t pos = n < k ? n++ : k - 1;
-    for (; pos > 0 && best_d[pos - 1] > d; --pos) {
-      best_d[pos] = best_d[pos - 1];
-      best_i[pos] = best_i[pos - 1];
+    const double d = exact_squared_distance_wide<Arch>(self, q.points + j * q.stride, q.dim);
+    if (d < std::numeric_limits<double>::infinity()) n = insert_exact(best_d, best_i, n, k, d, static_cast<std::uint32_t>(j));
+  }
+  const std::uint32_t fill = n > 0 ? best_i[0] : self_id;
+  for (std::size_t j = 0; j < k; ++j) out[j] = j < n ? best_i[j] : fill;
+}
+
+// The k nearest of one row, exactly, when its candidate list could not be
+// proved complete: a second pass over the panels collects every point whose
+// rank allows it to be as near as the list's k-th exact distance (a true
+// k nearest can be no farther), and those are ranked by exact distance. A
+// tie larger than kKnnTieCandidates (thousands of copies of one point) falls
+// back to ranking every point.
+template <class Arch>
+void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double row_norm, double kth_exact,
+                    std::uint32_t self_id, std::uint32_t* out) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  constexpr std::size_t NR = 2 * L;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const std::size_t k = q.k, dim = q.dim, count = q.count;
+  const std::size_t panel_count = (count + NR - 1) / NR;
+  const double slack = 8.0 * static_cast<double>(dim + 2) * 0x1p-24;
+  const double gap_shrink = 1.0 - 4.0 * static_cast<double>(dim + 2) * 0x1p-24;
+  const double bound = kth_exact * (1.0 + 0x1p-40);
+  const double row_radius = std::sqrt(row_norm);
+  float self_centred[kKnnMaxDim];
+  for (std::size_t c = 0; c < dim; ++c) self_centred[c] = -0.5f * a_scaled_row[c];  // exact: a power of two
+  std::uint32_t near[kKnnTieCandidates];
+  std::size_t near_count = 0;
+  for (std::size_t p = 0; p < panel_count; ++p) {
+    const double reach = static_cast<double>(q.panel_max_radius[p]) + row_radius;
+    const double allowance = slack * reach * reach;
+    const float* box = q.panel_boxes + p * 2 * dim;
+    if (gap_shrink * box_gap<Arch>(self_centred, self_centred, box, box + dim, dim) > bound + allowance) continue;
+    B acc[1][2] = {{B::load_aligned(q.norms + p * NR), B::load_aligned(q.norms + p * NR + L)}};
+    accumulate<Arch, 1>(a_scaled_row, dim, q.panels + p * NR * dim, dim, acc);
+    const B ceiling(std::nextafter(static_cast<float>(bound - row_norm + allowance), kInf));
+    std::uint64_t within = lane_mask<Arch>(acc[0][0] <= ceiling) | (std::uint64_t{lane_mask<Arch>(acc[0][1] <= ceiling)} << L);
+    while (within != 0) {
+      const std::size_t col = p * NR + static_cast<std::size_t>(__builtin_ctzll(within));
+      within &= within - 1;
+      if (col >= count) continue;
+      if (near_count == kKnnTieCandidates) return exact_row<Arch>(q, self_id, out);
+      near[near_count++] = q.original != nullptr ? q.original[col] : static_cast<std::uint32_t>(col);
     }
-    best_d[pos] = d;
-    best_i[pos] = static_cast<std::uint32_t>(j);
+  }
+  double best_d[kKnnMaxK];
+  std::uint32_t best_i[kKnnMaxK];
+  std::size_t n = 0;
+  const float* self = q.points + static_cast<std::size_t>(self_id) * q.stride;
+  for (std::size_t j = 0; j < near_count; ++j) {
+    const double d = exact_squared_distance_wide<Arch>(self, q.points + static_cast<std::size_t>(near[j]) * q.stride, dim);
+    if (d < std::numeric_limits<double>::infinity()) n = insert_exact(best_d, best_i, n, k, d, near[j]);
   }
   const std::uint32_t fill = n > 0 ? best_i[0] : self_id;
   for (std::size_t j = 0; j < k; ++j) out[j] = j < n ? best_i[j] : fill;
@@ -340,7 +399,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         // at or above its last entry, so its true squared distance is at
         // least that rank + |a|^2 less the rounding allowance. Otherwise (a
         // near tie across the list's end, which rounding might have
-        // reordered) the row is done exactly over all points.
+        // reordered) the row is redone exactly (exact_row_near).
         // (The 2^-40 covers the double sums' own rounding.)
         if (found[r] == keep && keep < count) {
           const double reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);
@@ -349,7 +408,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           const bool proved = exact[k - 1] * (1.0 + 0x1p-40) < excluded_floor;
           // A non-finite floor comes from non-finite input, which keeps the fast lists.
           if (!proved && std::isfinite(excluded_floor)) {
-            exact_row<Arch>(q, row_id[r], out);
+            exact_row_near<Arch>(q, a_scaled + r * dim, row_norm[r], exact[k - 1], row_id[r], out);
             continue;
           }
         }

@@ -12,10 +12,14 @@ inline constexpr std::size_t kKnnMaxDim = 256;
 inline constexpr std::size_t kKnnMaxCount = std::size_t{1} << 24;
 // Candidates kept beyond k by the fast |b|^2 - 2a.b ranking, whose float
 // rounding (about 1e-7 of |a|^2) can swap near-equal neighbours; the final k
-// are chosen among them by exact differences in double. A row is redone over
-// all points when the last candidate is not provably farther than the k-th
+// are chosen among them by exact differences in double. A row is redone
+// exactly when the last candidate is not provably farther than the k-th
 // (near or exact ties, e.g. a sparse block's repeated points: 0.6 % of rows
 // in the demo's blocks; 3.9 % with 4 extra, 0.007 % with 16).
 inline constexpr std::size_t kKnnExtra = 8;
+
+// A row redone exactly ranks the points that could tie with its k-th
+// neighbour; past this many (thousands of copies of one point) it ranks all.
+inline constexpr std::size_t kKnnTieCandidates = 1024;
 
 }  // namespace sarmap::kernels

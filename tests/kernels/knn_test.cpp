@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "tests/kernels/kernel_test_support.hpp"
@@ -140,6 +141,15 @@ TEST(Knn, NeighboursFarFromTheCentreAreExactWhereFloatRankingCannotTell) {
   expect_reference_lists(p, 3, 20);
 }
 
+TEST(Knn, ManyCopiesOfFewPointsMatchReference) {
+  // A sparse block padded by repetition: 30 points, 40 copies each, so every
+  // row's k-th neighbour ties exactly with copies beyond its candidate list.
+  const auto distinct = test::random_floats(30 * 3, 31);
+  std::vector<float> p;
+  for (int copy = 0; copy < 40; ++copy) p.insert(p.end(), distinct.begin(), distinct.end());
+  expect_reference_lists(p, 3, 20);
+}
+
 TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
   const std::size_t n = 7, k = 20;
   const auto p = test::random_floats(n * 3, 12);
@@ -159,14 +169,17 @@ TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
 }
 
 TEST(Knn, AllEqualPointsGiveTheFirstKIndices) {
-  const std::size_t n = 100, k = 20, dim = 64;
-  std::vector<float> p(n * dim, 0.25f);
-  for (SimdLevel level : test::supported_levels()) {
-    KnnWorkspace ws;
-    std::vector<std::uint32_t> got(n * k);
-    knn(p.data(), dim, n, dim, k, level, ws, got.data());
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t j = 0; j < k; ++j) ASSERT_EQ(got[i * k + j], j);
+  // 1100 equal points: a tie larger than kKnnTieCandidates, ranked over all points.
+  for (const auto [n, dim] : {std::pair<std::size_t, std::size_t>{100, 64}, {kKnnTieCandidates + 76, 3}}) {
+    const std::size_t k = 20;
+    std::vector<float> p(n * dim, 0.25f);
+    for (SimdLevel level : test::supported_levels()) {
+      KnnWorkspace ws;
+      std::vector<std::uint32_t> got(n * k);
+      knn(p.data(), dim, n, dim, k, level, ws, got.data());
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j < k; ++j) ASSERT_EQ(got[i * k + j], j) << "n " << n;
+      }
     }
   }
 }
