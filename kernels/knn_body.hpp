@@ -405,7 +405,11 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           const double reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);
           const double excluded_floor =
               static_cast<double>(list_d[r][L + keep - 1]) + row_norm[r] - slack * reach * reach;
-          const bool proved = exact[k - 1] * (1.0 + 0x1p-40) < excluded_floor;
+          // A k-th neighbour at distance 0 is a copy of the row's point, and
+          // so are all points at distance 0; copies rank exactly alike, so
+          // the list holds the lowest-indexed of them: proved too. (Padding a
+          // sparse block by repetition makes this the common tie.)
+          const bool proved = exact[k - 1] == 0.0 || exact[k - 1] * (1.0 + 0x1p-40) < excluded_floor;
           // A non-finite floor comes from non-finite input, which keeps the fast lists.
           if (!proved && std::isfinite(excluded_floor)) {
             exact_row_near<Arch>(q, a_scaled + r * dim, row_norm[r], exact[k - 1], row_id[r], out);

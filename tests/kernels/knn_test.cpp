@@ -168,8 +168,15 @@ TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
   }
 }
 
+TEST(Knn, ATieLargerThanTheCandidateBufferIsRankedOverAllPoints) {
+  // One point, then 1100 copies of another: the first row's k-th neighbour
+  // ties with more than kKnnTieCandidates points.
+  std::vector<float> p = {0.0f, 0.0f, 0.0f};
+  for (std::size_t i = 0; i < kKnnTieCandidates + 76; ++i) p.insert(p.end(), {1.0f, 2.0f, 3.0f});
+  expect_reference_lists(p, 3, 20);
+}
+
 TEST(Knn, AllEqualPointsGiveTheFirstKIndices) {
-  // 1100 equal points: a tie larger than kKnnTieCandidates, ranked over all points.
   for (const auto [n, dim] : {std::pair<std::size_t, std::size_t>{100, 64}, {kKnnTieCandidates + 76, 3}}) {
     const std::size_t k = 20;
     std::vector<float> p(n * dim, 0.25f);
