@@ -62,6 +62,7 @@ void Mapper::integrate(Scan& scan) {
       profile_.add_count("classify", "points", static_cast<double>(scan.points.size()));
       profile_.add_count("classify", "blocks", static_cast<double>(counts.blocks));
       profile_.add_count("classify", "unlabelled", static_cast<double>(counts.unlabelled));
+      profile_.add_count("classify", "ramp_vetoed", static_cast<double>(counts.vetoed));
     } catch (const Error& e) {
       throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
     }

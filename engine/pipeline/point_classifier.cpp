@@ -52,6 +52,7 @@ class DgcnnPointClassifier final : public PointClassifier {
     const DgcnnClassifyStats stats = classifier_.classify(points);
     ClassifyCounts counts;
     counts.blocks = stats.blocks;
+    counts.vetoed = stats.vetoed_points;
     counts.unlabelled = count_unknown(points);
     return counts;
   }

@@ -28,6 +28,7 @@ struct ClassifierConfig {
 struct ClassifyCounts {
   std::size_t blocks = 0;          // dgcnn blocks run
   std::size_t unlabelled = 0;      // points left unknown (sparse blocks, far points)
+  std::size_t vetoed = 0;          // dgcnn inclined-ramp labels on steep surfaces, relabelled
 };
 
 class PointClassifier {

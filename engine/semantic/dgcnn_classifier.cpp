@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -82,17 +83,24 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
     const std::size_t existing = points.find_score(name);
     channels[c] = existing < points.score_count() ? existing : points.add_score(name);
   }
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const std::vector<float> mean = acc.mean(p);
-    for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[p] = mean[c];
-    if (acc.hits(p) == 0) {
-      points.labels()[p] = static_cast<std::uint8_t>(ClassId::Unknown);
-    } else {
-      const std::size_t best = static_cast<std::size_t>(std::max_element(mean.begin(), mean.end()) - mean.begin());
-      points.labels()[p] = static_cast<std::uint8_t>(m.classes[best]);
-    }
-  }
-  return {part.blocks.size(), part.dropped_points};
+  // Each point's mean scores and label: in parallel, one scratch row per range.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::vector<float> mean(classes);
+                      for (std::size_t p = range.begin(); p != range.end(); ++p) {
+                        acc.mean(p, mean.data());
+                        for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[p] = mean[c];
+                        if (acc.hits(p) == 0) {
+                          points.labels()[p] = static_cast<std::uint8_t>(ClassId::Unknown);
+                        } else {
+                          const auto best = static_cast<std::size_t>(std::max_element(mean.begin(), mean.end()) -
+                                                                     mean.begin());
+                          points.labels()[p] = static_cast<std::uint8_t>(m.classes[best]);
+                        }
+                      }
+                    });
+  const std::size_t vetoed = veto_steep_inclined_ramps(points, settings_.ramp_veto);
+  return {part.blocks.size(), part.dropped_points, vetoed};
 }
 
 }  // namespace sarmap

@@ -7,6 +7,7 @@
 
 #include "engine/core/point_buffer.hpp"
 #include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/steep_surface_veto.hpp"
 
 namespace sarmap {
 
@@ -14,11 +15,13 @@ struct DgcnnClassifierSettings {
   double stride = 0.0;           // <= 0: the model's block size (no overlap)
   std::size_t min_points = 500;  // sparser blocks are dropped
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
+  SteepSurfaceVetoSettings ramp_veto;  // inclined-ramp labels on steep surfaces become wall / other
 };
 
 struct DgcnnClassifyStats {
   std::size_t blocks = 0;
   std::size_t dropped_points = 0;  // only in dropped blocks: labelled unknown
+  std::size_t vetoed_points = 0;   // inclined ramp on a steep surface, relabelled
 };
 
 class DgcnnClassifier {

@@ -136,10 +136,15 @@ void ScoreAccumulator::add_block(const PointBuffer& points, const Block& block, 
 }
 
 std::vector<float> ScoreAccumulator::mean(std::size_t p) const {
-  std::vector<float> out(classes_, 0.0f);
-  if (hits_[p] == 0) return out;
-  for (std::size_t c = 0; c < classes_; ++c) out[c] = static_cast<float>(sums_[p * classes_ + c] / hits_[p]);
+  std::vector<float> out(classes_);
+  mean(p, out.data());
   return out;
+}
+
+void ScoreAccumulator::mean(std::size_t p, float* out) const {
+  for (std::size_t c = 0; c < classes_; ++c) {
+    out[c] = hits_[p] == 0 ? 0.0f : static_cast<float>(sums_[p * classes_ + c] / hits_[p]);
+  }
 }
 
 }  // namespace sarmap

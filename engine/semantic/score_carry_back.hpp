@@ -28,6 +28,8 @@ class ScoreAccumulator {
   std::uint32_t hits(std::size_t p) const { return hits_[p]; }
   // Mean score of point p over its blocks (zeros when hits(p) == 0).
   std::vector<float> mean(std::size_t p) const;
+  // The same into out[0 .. classes), without allocating.
+  void mean(std::size_t p, float* out) const;
 
  private:
   std::size_t classes_;

@@ -32,6 +32,14 @@ class RunCommand : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
+  // `sarmap run` of the input with the small test network.
+  test::CliResult run_dgcnn(const std::string& extra, const fs::path& out) const {
+    const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
+    return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --model " +
+                       quoted(model) + " --quiet --min-block-points 1" + extra,
+                   dir_);
+  }
+  static nlohmann::json json_of(const fs::path& file) { return nlohmann::json::parse(test::read_all(file)); }
   fs::path dir_;
   const fs::path input_ = fs::path(SARMAP_TEST_DATA_DIR) / "sequences" / "tiny";
 };
@@ -174,15 +182,9 @@ TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
 // gets a class, and the manifest records the stride. A stride above the block
 // size would leave gaps and is refused by name.
 TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
-  const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
-  const auto run = [&](const std::string& extra, const fs::path& out) {
-    return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --model " +
-                       quoted(model) + " --quiet --min-block-points 1" + extra,
-                   dir_);
-  };
+  const auto run = [&](const std::string& extra, const fs::path& out) { return run_dgcnn(extra, out); };
   const auto blocks = [&](const fs::path& out) {
-    return nlohmann::json::parse(test::read_all(out / "profile.json"))
-        .at("stages").at("classify").at("blocks").get<double>();
+    return json_of(out / "profile.json").at("stages").at("classify").at("blocks").get<double>();
   };
   auto r = run("", dir_ / "plain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -203,6 +205,23 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
   r = run(" --block-stride -1", dir_ / "negative");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--block-stride"), std::string::npos) << r.err;
+}
+
+// The steep-surface veto is on by default and --no-ramp-veto turns it off:
+// the manifest records which, and the profile counts what it changed
+// (nothing when off). (What it changes is tested on real planes in
+// tests/semantic; this input is too small to hold a surface.)
+TEST_F(RunCommand, NoRampVetoIsRecordedAndCounted) {
+  auto r = run_dgcnn("", dir_ / "veto");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_dgcnn(" --no-ramp-veto", dir_ / "plain");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
+  for (const char* run : {"veto", "plain"}) {
+    EXPECT_EQ(json_of(dir_ / run / "profile.json").at("stages").at("classify").at("ramp_vetoed").get<double>(), 0.0)
+        << run;
+  }
 }
 
 // Map bounds from the command line: the saved map holds no more blocks than

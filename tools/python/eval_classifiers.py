@@ -53,8 +53,12 @@ def simulate(sarmap, work, name, arena_json, seed, every):
     return arena_path, folder
 
 
-def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, threads):
-    out = os.path.join(work, name, classifier + (f"-stride{block_stride}" if classifier == "dgcnn" and block_stride else ""))
+def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, ramp_veto,
+             threads):
+    suffix = ""
+    if classifier == "dgcnn":
+        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto")
+    out = os.path.join(work, name, classifier + suffix)
     cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
     if classifier == "dgcnn" and model:
         cmd += ["--model", model]
@@ -62,6 +66,8 @@ def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_bloc
         cmd += ["--min-block-points", str(min_block_points)]
     if classifier == "dgcnn" and block_stride:
         cmd += ["--block-stride", str(block_stride)]
+    if classifier == "dgcnn" and not ramp_veto:
+        cmd += ["--no-ramp-veto"]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
     with open(os.path.join(out, "profile.json")) as f:
@@ -103,6 +109,8 @@ def main(argv):
     parser.add_argument("--model", help="DGCNN model (default: the shipped one)")
     parser.add_argument("--min-block-points", type=int, help="passed to sarmap run (default: its own)")
     parser.add_argument("--block-stride", type=float, help="passed to sarmap run: overlapping DGCNN blocks")
+    parser.add_argument("--no-ramp-veto", action="store_true",
+                        help="passed to sarmap run: keep the network's inclined-ramp labels on steep surfaces")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args(argv)
@@ -116,7 +124,8 @@ def main(argv):
         arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every)
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
-                                        args.min_block_points, args.block_stride, args.threads)
+                                        args.min_block_points, args.block_stride, not args.no_ramp_veto,
+                                        args.threads)
             totals[classifier] += conf
             rows.append((name, classifier, ious(conf), classify_s))
             print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)

@@ -36,6 +36,7 @@ struct ClassifyOptions {
   double stride = 0.0;
   std::size_t min_points = 500;
   std::uint64_t seed = 1;
+  bool ramp_veto = true;
   std::string raw_block;
   std::string model;
   std::string logits;
@@ -90,6 +91,7 @@ void run_cloud(const ClassifyOptions& o) {
   settings.stride = o.stride;
   settings.min_points = o.min_points;
   settings.seed = o.seed;
+  settings.ramp_veto.enabled = o.ramp_veto;
   const DgcnnClassifier classifier(model, settings);
   const std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
   if (o.frame >= source->size()) {
@@ -107,8 +109,9 @@ void run_cloud(const ClassifyOptions& o) {
   }
   const DgcnnClassifyStats stats = classifier.classify(points);
   write_point_cloud(o.out, points);
-  std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown\n",
-              points.size(), stats.blocks, stats.dropped_points, o.min_points);
+  std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown; "
+              "%zu inclined-ramp labels on steep surfaces changed\n",
+              points.size(), stats.blocks, stats.dropped_points, o.min_points, stats.vetoed_points);
 }
 
 }  // namespace
@@ -123,6 +126,8 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--stride", options->stride, "Metres between block origins (default: the block size)");
   cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)");
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)");
+  cmd->add_flag("!--no-ramp-veto", options->ramp_veto,
+                "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
   cmd->add_option("--raw-block", options->raw_block,
                   "An (N, C) float32 .npy block fed to the network as it is (no preprocessing)")
       ->check(CLI::ExistingFile);

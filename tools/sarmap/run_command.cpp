@@ -49,6 +49,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   config.classifier.dgcnn.min_points = o.min_block_points;
   if (o.block_stride < 0) throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be >= 0");
   config.classifier.dgcnn.stride = o.block_stride;
+  config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
   if (o.classifier == "dgcnn") {
     config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
     if (!fs::exists(config.classifier.model)) {
@@ -92,6 +93,7 @@ RunSummary run_pipeline(const RunOptions& o) {
     manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
     manifest["settings"]["min_block_points"] = o.min_block_points;
     manifest["settings"]["block_stride"] = o.block_stride;
+    manifest["settings"]["ramp_veto"] = o.ramp_veto;
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
@@ -147,6 +149,9 @@ void add_run_command(CLI::App& app) {
                   "Metres between DGCNN block origins; below the block size the blocks overlap and each "
                   "point's scores are averaged over the blocks that hold it (0 = the block size, no overlap)")
       ->capture_default_str();
+  cmd->add_flag("!--no-ramp-veto", o->ramp_veto,
+               "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
+               "inclined ramp on a surface steeper than 60 degrees become wall or other)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")

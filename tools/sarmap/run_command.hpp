@@ -23,6 +23,7 @@ struct RunOptions {
   // and the network labels them well (held-out terrain IoU 77 % -> 94 % at 100).
   std::size_t min_block_points = 100;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = the model's block size
+  bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
   int threads = 0;
   double max_range = 0.0;
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
