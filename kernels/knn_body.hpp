@@ -155,6 +155,12 @@ inline double exact_squared_distance_wide(const float* a, const float* b, std::s
   return exact_squared_distance(a, b, dim);
 }
 
+// A computed |b|^2 - 2a.b is within ranking_slack(dim) * (|b| + |a|)^2 of
+// the exact one (a generous bound on float rounding over dim + 1 terms), and
+// a box gap at least box_gap_shrink(dim) times its exact value.
+inline double ranking_slack(std::size_t dim) { return 8.0 * static_cast<double>(dim + 2) * 0x1p-24; }
+inline double box_gap_shrink(std::size_t dim) { return 1.0 - 4.0 * static_cast<double>(dim + 2) * 0x1p-24; }
+
 // Inserts (d, id) into the ascending list best_d / best_i of n entries (at
 // most k), ordered by distance and then index; returns the new n.
 inline std::size_t insert_exact(double* best_d, std::uint32_t* best_i, std::size_t n, std::size_t k, double d,
@@ -171,22 +177,31 @@ inline std::size_t insert_exact(double* best_d, std::uint32_t* best_i, std::size
   return n;
 }
 
-// The k nearest of one row by exact distance to every point, ties by index
-// (the reference's answer). Non-finite distances are never neighbours, as in
-// the fast path.
-template <class Arch>
-void exact_row(const detail::KnnArgs& q, std::uint32_t self_id, std::uint32_t* out) {
+// Writes to out the k nearest of row self_id among the candidates
+// id_of(0 .. candidates), by exact distance, ties by index (the reference's
+// answer), repeating the nearest when fewer than k. Non-finite distances are
+// never neighbours, as in the fast path.
+template <class Arch, class IdOf>
+void write_exact_nearest(const detail::KnnArgs& q, std::uint32_t self_id, std::size_t candidates, IdOf id_of,
+                         std::uint32_t* out) {
   const std::size_t k = q.k;
   double best_d[kKnnMaxK];
   std::uint32_t best_i[kKnnMaxK];
   std::size_t n = 0;
   const float* self = q.points + static_cast<std::size_t>(self_id) * q.stride;
-  for (std::size_t j = 0; j < q.count; ++j) {
-    const double d = exact_squared_distance_wide<Arch>(self, q.points + j * q.stride, q.dim);
-    if (d < std::numeric_limits<double>::infinity()) n = insert_exact(best_d, best_i, n, k, d, static_cast<std::uint32_t>(j));
+  for (std::size_t j = 0; j < candidates; ++j) {
+    const std::uint32_t id = id_of(j);
+    const double d = exact_squared_distance_wide<Arch>(self, q.points + static_cast<std::size_t>(id) * q.stride, q.dim);
+    if (d < std::numeric_limits<double>::infinity()) n = insert_exact(best_d, best_i, n, k, d, id);
   }
   const std::uint32_t fill = n > 0 ? best_i[0] : self_id;
   for (std::size_t j = 0; j < k; ++j) out[j] = j < n ? best_i[j] : fill;
+}
+
+// The k nearest of one row by exact distance to every point.
+template <class Arch>
+void exact_row(const detail::KnnArgs& q, std::uint32_t self_id, std::uint32_t* out) {
+  write_exact_nearest<Arch>(q, self_id, q.count, [](std::size_t j) { return static_cast<std::uint32_t>(j); }, out);
 }
 
 // The k nearest of one row, exactly, when its candidate list could not be
@@ -202,10 +217,9 @@ void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double 
   constexpr std::size_t L = B::size;
   constexpr std::size_t NR = 2 * L;
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  const std::size_t k = q.k, dim = q.dim, count = q.count;
+  const std::size_t dim = q.dim, count = q.count;
   const std::size_t panel_count = (count + NR - 1) / NR;
-  const double slack = 8.0 * static_cast<double>(dim + 2) * 0x1p-24;
-  const double gap_shrink = 1.0 - 4.0 * static_cast<double>(dim + 2) * 0x1p-24;
+  const double slack = ranking_slack(dim), gap_shrink = box_gap_shrink(dim);
   const double bound = kth_exact * (1.0 + 0x1p-40);
   const double row_radius = std::sqrt(row_norm);
   float self_centred[kKnnMaxDim];
@@ -229,16 +243,7 @@ void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double 
       near[near_count++] = q.original != nullptr ? q.original[col] : static_cast<std::uint32_t>(col);
     }
   }
-  double best_d[kKnnMaxK];
-  std::uint32_t best_i[kKnnMaxK];
-  std::size_t n = 0;
-  const float* self = q.points + static_cast<std::size_t>(self_id) * q.stride;
-  for (std::size_t j = 0; j < near_count; ++j) {
-    const double d = exact_squared_distance_wide<Arch>(self, q.points + static_cast<std::size_t>(near[j]) * q.stride, dim);
-    if (d < std::numeric_limits<double>::infinity()) n = insert_exact(best_d, best_i, n, k, d, near[j]);
-  }
-  const std::uint32_t fill = n > 0 ? best_i[0] : self_id;
-  for (std::size_t j = 0; j < k; ++j) out[j] = j < n ? best_i[j] : fill;
+  write_exact_nearest<Arch>(q, self_id, near_count, [&near](std::size_t j) { return near[j]; }, out);
 }
 
 template <class Arch>
@@ -268,12 +273,9 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   // squared norms, for skipping panels.
   float rows_lo[kKnnMaxDim], rows_hi[kKnnMaxDim];
   double row_norm[MR];
-  // A computed |b|^2 - 2a.b is within slack * (|b| + |a|)^2 of the exact one
-  // (a generous bound on float rounding over dim + 1 terms), and the box gap
-  // within gap_shrink of its exact value, so a panel is skipped only when no
-  // rounding could have let one of its points in.
-  const double slack = 8.0 * static_cast<double>(dim + 2) * 0x1p-24;
-  const double gap_shrink = 1.0 - 4.0 * static_cast<double>(dim + 2) * 0x1p-24;
+  // With these allowances a panel is skipped only when no rounding could
+  // have let one of its points in.
+  const double slack = ranking_slack(dim), gap_shrink = box_gap_shrink(dim);
   constexpr std::size_t kSlots = kKnnMaxK + kKnnExtra;
   const std::size_t keep = k + kKnnExtra < q.count ? k + kKnnExtra : q.count;
   // Per row: the sorted candidate list, a vector of sentinel in front and
