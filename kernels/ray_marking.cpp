@@ -41,4 +41,32 @@ std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_
   return mark_ray_cells_reference(start, ends, count, sink);
 }
 
+std::size_t mark_ray_cells_dense_reference(const double start[3], const double* ends, std::size_t count,
+                                           const DenseMaskGrid& grid) {
+  std::size_t visits = 0;
+  for (std::size_t r = 0; r < count; ++r) {
+    visits += dda_walk(start, ends + 3 * r, [&](std::int32_t x, std::int32_t y, std::int32_t z) {
+      const std::int64_t i = (x >> kMarkBlockShift) - grid.first_block[0];
+      const std::int64_t j = (y >> kMarkBlockShift) - grid.first_block[1];
+      const std::int64_t k = (z >> kMarkBlockShift) - grid.first_block[2];
+      const std::int64_t block = i + grid.blocks[0] * (j + std::int64_t{grid.blocks[1]} * k);
+      grid.words[kMarkBlockWords * static_cast<std::size_t>(block) + static_cast<std::size_t>(z & 7)] |=
+          std::uint64_t{1} << ((x & 7) | ((y & 7) << 3));
+      return true;
+    });
+  }
+  return visits;
+}
+
+std::size_t mark_ray_cells_dense(const double start[3], const double* ends, std::size_t count,
+                                 const DenseMaskGrid& grid, SimdLevel level) {
+  if (!simd_level_supported(level)) throw std::invalid_argument("mark_ray_cells_dense: instruction set not supported");
+  switch (level) {
+    case SimdLevel::Avx512: return detail::mark_ray_cells_dense_avx512(start, ends, count, grid);
+    case SimdLevel::Avx2: return detail::mark_ray_cells_dense_avx2(start, ends, count, grid);
+    case SimdLevel::Sse42: break;  // as in mark_ray_cells
+  }
+  return mark_ray_cells_dense_reference(start, ends, count, grid);
+}
+
 }  // namespace sarmap::kernels

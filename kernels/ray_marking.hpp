@@ -37,11 +37,35 @@ std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_
 std::size_t mark_ray_cells_reference(const double start[3], const double* ends, std::size_t count,
                                      const BlockMaskSink& sink);
 
+// Where the bits go when the rays' box of blocks is known and small: a dense
+// grid of blocks, block (first_block + (i, j, k)) owning the 8 words from
+// words[8 * (i + blocks[0] * (j + blocks[1] * k))]. Within a block the word is
+// the cell's z and the bit x + 8 y, the same layout as the sink's masks. No
+// look-up per block, which makes it about twice as fast (PERF.md); the grid
+// must hold every cell of the walks (the blocks of start and of every end)
+// and have fewer than 2^31 words.
+struct DenseMaskGrid {
+  std::int32_t first_block[3];
+  std::int32_t blocks[3];
+  std::uint64_t* words;
+};
+
+// mark_ray_cells() into a dense grid.
+std::size_t mark_ray_cells_dense(const double start[3], const double* ends, std::size_t count,
+                                 const DenseMaskGrid& grid, SimdLevel level);
+// One ray at a time with dda_walk(): the reference, and the SSE4.2 path.
+std::size_t mark_ray_cells_dense_reference(const double start[3], const double* ends, std::size_t count,
+                                           const DenseMaskGrid& grid);
+
 namespace detail {
 std::size_t mark_ray_cells_avx2(const double start[3], const double* ends, std::size_t count,
                                 const BlockMaskSink& sink);
 std::size_t mark_ray_cells_avx512(const double start[3], const double* ends, std::size_t count,
                                   const BlockMaskSink& sink);
+std::size_t mark_ray_cells_dense_avx2(const double start[3], const double* ends, std::size_t count,
+                                      const DenseMaskGrid& grid);
+std::size_t mark_ray_cells_dense_avx512(const double start[3], const double* ends, std::size_t count,
+                                        const DenseMaskGrid& grid);
 }  // namespace detail
 
 }  // namespace sarmap::kernels

@@ -8,4 +8,9 @@ std::size_t mark_ray_cells_avx512(const double start[3], const double* ends, std
   return mark_ray_cells_impl<xsimd::avx512bw>(start, ends, count, sink);
 }
 
+std::size_t mark_ray_cells_dense_avx512(const double start[3], const double* ends, std::size_t count,
+                                      const DenseMaskGrid& grid) {
+  return mark_ray_cells_dense_impl<xsimd::avx512bw>(start, ends, count, grid);
+}
+
 }  // namespace sarmap::kernels::detail

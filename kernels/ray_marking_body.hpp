@@ -1,12 +1,16 @@
-// mark_ray_cells() written once over the xsimd architecture, compiled per
-// instruction set by ray_marking_{avx2,avx512}.cpp. Each lane of a vector of
-// doubles carries one ray's DdaState (dda_walk.hpp) and steps it with the same
-// operations as dda_step(), so every lane visits exactly the cells the scalar
-// walk visits. A lane whose ray reaches its end cell takes the next ray.
-// Per step the vector part also finds each lane's cell within its block and
-// whether the lane entered a new block (one step in eight or so); only then
-// does the lane ask the sink for the block. What is left scalar per cell is
-// one OR into the lane's block mask.
+// mark_ray_cells() and mark_ray_cells_dense() written once over the xsimd
+// architecture, compiled per instruction set by ray_marking_{avx2,avx512}.cpp.
+// Each lane of a vector of doubles carries one ray's DdaState (dda_walk.hpp)
+// and steps it with the same operations as dda_step(), so every lane visits
+// exactly the cells the scalar walk visits. A lane whose ray reaches its end
+// cell takes the next ray. walk_ray_lanes() does that and hands each step's
+// cells to a marker, which finds the word and bit of each lane's cell in
+// vector code and ORs them in scalar code one step later: a scalar load right
+// after the vector store of the same step waited for the store to commit
+// (store forwarding does not split a vector store), which cost more than the
+// step itself. Two markers: BlockSinkMarker asks a sink for a lane's block
+// when the lane enters a new one (one step in eight or so); DenseGridMarker
+// computes the word in a dense grid of blocks and needs no look-up at all.
 #pragma once
 
 #include <xsimd/xsimd.hpp>
@@ -35,31 +39,39 @@ inline unsigned lane_bits(const xsimd::batch_bool<double, Arch>& b) {
   }
 }
 
+// Converts lanes holding small non-negative integers to int32 in memory.
 template <class Arch>
-std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::size_t count,
-                                const BlockMaskSink& sink) {
+inline void store_as_int32(const xsimd::batch<double, Arch>& x, std::int32_t* out) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    _mm256_store_si256(reinterpret_cast<__m256i*>(out), _mm512_cvttpd_epi32(x));
+  } else
+#endif
+  {
+    static_assert(std::is_base_of_v<xsimd::avx, Arch>, "store_as_int32: no conversion for this instruction set");
+    _mm_store_si128(reinterpret_cast<__m128i*>(out), _mm256_cvttpd_epi32(x));
+  }
+}
+
+// Walks the rays to ends[3 r ..] from start, N at a time, calling
+// marker.record(cells, active, buffer) with each step's cells (a vector per
+// axis, lanes not in active hold nothing to mark) and then marker.mark(other
+// buffer) to mark the step before. Returns the cells visited.
+template <class Arch, class Marker>
+std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_t count, Marker& marker) {
   using D = xsimd::batch<double, Arch>;
   constexpr std::size_t N = D::size;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   static_assert(N <= 8, "lane sets are bits of an unsigned");
 
   // The lanes' states, by field and axis; the loop keeps them in registers
   // and goes through these arrays only when a lane changes ray.
   alignas(64) double v[3][N], last[3][N], step[3][N], face[3][N], inv[3][N], t[3][N], next[3][N], eps[N];
-  alignas(64) double block[3][N];  // the block each lane marks into (NaN: none yet)
-  // Per step, double-buffered (see the loop): each lane's cell index in its
-  // block, the blocks of lanes that entered one, which lanes moved, marked.
-  alignas(64) double local[2][N];
-  alignas(64) double new_block[2][3][N];
-  unsigned moved[2] = {0, 0}, marking[2] = {0, 0};
-  std::size_t parity = 0;
-  std::uint32_t block_index[N] = {};
   unsigned active = 0;
-  std::size_t next_ray = 0, visits = 0;
+  std::size_t next_ray = 0, visits = 0, parity = 0;
 
   // Gives lane the next ray that visits anything, or parks it (no ray left):
-  // a parked lane sits on its end cell with nothing to step.
+  // a parked lane sits on cell (0, 0, 0) with nothing to step.
   const auto load_lane = [&](std::size_t lane) {
     while (next_ray < count) {
       const DdaState s = dda_setup(start, ends + 3 * next_ray++);
@@ -72,7 +84,6 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
         inv[i][lane] = s.inv[i];
         t[i][lane] = s.t[i];
         next[i][lane] = s.next[i];
-        block[i][lane] = kNaN;
       }
       eps[lane] = s.eps;
       active |= 1u << lane;
@@ -81,7 +92,6 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
     for (int i = 0; i < 3; ++i) {
       v[i][lane] = last[i][lane] = step[i][lane] = face[i][lane] = inv[i][lane] = next[i][lane] = 0.0;
       t[i][lane] = kInf;
-      block[i][lane] = kNaN;
     }
     eps[lane] = 0.0;
     active &= ~(1u << lane);
@@ -89,7 +99,7 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
   for (std::size_t lane = 0; lane < N; ++lane) load_lane(lane);
   if (active == 0) return 0;
 
-  D vv[3], lastv[3], stepv[3], facev[3], invv[3], tv[3], nextv[3], blockv[3], epsv;
+  D vv[3], lastv[3], stepv[3], facev[3], invv[3], tv[3], nextv[3], epsv;
   const auto load_state = [&] {
     for (int i = 0; i < 3; ++i) {
       vv[i] = D::load_aligned(v[i]);
@@ -99,7 +109,6 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
       invv[i] = D::load_aligned(inv[i]);
       tv[i] = D::load_aligned(t[i]);
       nextv[i] = D::load_aligned(next[i]);
-      blockv[i] = D::load_aligned(block[i]);
     }
     epsv = D::load_aligned(eps);
   };
@@ -112,60 +121,18 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
       invv[i].store_aligned(inv[i]);
       tv[i].store_aligned(t[i]);
       nextv[i].store_aligned(next[i]);
-      blockv[i].store_aligned(block[i]);
     }
     epsv.store_aligned(eps);
   };
   load_state();
   const D startv[3] = {D(start[0]), D(start[1]), D(start[2])};
-  const D eighth(0.125), eight(8.0), sixty_four(64.0), inf(kInf);
+  const D inf(kInf);
 
-  const auto mark_step = [&](std::size_t step_buffer) {
-    for (unsigned bits = moved[step_buffer]; bits != 0; bits &= bits - 1) {
-      const int lane = std::countr_zero(bits);
-      block_index[lane] = sink.block_index(sink.context, static_cast<std::int32_t>(new_block[step_buffer][0][lane]),
-                                           static_cast<std::int32_t>(new_block[step_buffer][1][lane]),
-                                           static_cast<std::int32_t>(new_block[step_buffer][2][lane]));
-    }
-    std::uint64_t* const masks = *sink.masks;
-    // Every lane, without branches (nearly all are marking): a lane that is
-    // not ORs nothing into its last word.
-    const unsigned marking_lanes = marking[step_buffer];
-    if (marking_lanes == 0) return;  // the first step: no marks and maybe no masks yet
-#pragma GCC unroll 8
-    for (std::size_t lane = 0; lane < N; ++lane) {
-      const auto cell = static_cast<unsigned>(local[step_buffer][lane]);
-      const std::uint64_t bit = static_cast<std::uint64_t>((marking_lanes >> lane) & 1u) << (cell & 63);
-      masks[kMarkBlockWords * block_index[lane] + (cell >> 6)] |= bit;
-    }
-  };
   while (true) {
-    // Mark the lanes' current cells. Cell coordinates are integers in
-    // doubles, so the block (floor of a division by 8) and the place in it
-    // are exact. The lanes' values reach the scalar marking through memory,
-    // one step late: a scalar load right after the vector store of the same
-    // step waited for the store to commit (store forwarding does not split
-    // a vector store), which cost more than the step itself.
-    const std::size_t now = parity, before = parity ^ 1;
-    D b[3], in_block[3];
-    for (int i = 0; i < 3; ++i) {
-      b[i] = xsimd::floor(vv[i] * eighth);
-      in_block[i] = vv[i] - b[i] * eight;
-    }
-    (in_block[0] + in_block[1] * eight + in_block[2] * sixty_four).store_aligned(local[now]);
-    // Written as "not equal" by hand: a NaN (no block yet) must count as a
-    // change, and xsimd's != is an ordered compare, false for NaN.
-    moved[now] = ~lane_bits<Arch>((b[0] == blockv[0]) && (b[1] == blockv[1]) && (b[2] == blockv[2])) & active;
-    marking[now] = active;
-    if (moved[now] != 0) {
-      for (int i = 0; i < 3; ++i) {
-        b[i].store_aligned(new_block[now][i]);
-        blockv[i] = b[i];  // lanes that did not move already hold b
-      }
-    }
-    mark_step(before);
+    marker.record(vv, active, parity);
+    marker.mark(parity ^ 1);
     visits += static_cast<std::size_t>(std::popcount(active));
-    parity = before;
+    parity ^= 1;
 
     // dda_step() on every lane.
     const D tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
@@ -185,8 +152,133 @@ std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::
       load_state();
     }
   }
-  mark_step(parity ^ 1);  // the last step's marks (the loop left before marking them)
+  marker.mark(parity ^ 1);  // the last step's marks (the loop left before marking them)
   return visits;
+}
+
+// Marks into block masks found through a sink (BlockMaskSink).
+template <class Arch>
+class BlockSinkMarker {
+ public:
+  using D = xsimd::batch<double, Arch>;
+  static constexpr std::size_t N = D::size;
+
+  explicit BlockSinkMarker(const BlockMaskSink& sink) : sink_(sink) {
+    for (int i = 0; i < 3; ++i) block_[i] = D(std::numeric_limits<double>::quiet_NaN());
+  }
+
+  void record(const D (&cell)[3], unsigned active, std::size_t buffer) {
+    // Cell coordinates are integers in doubles, so the block (floor of a
+    // division by 8) and the place in it are exact.
+    D b[3], in_block[3];
+    for (int i = 0; i < 3; ++i) {
+      b[i] = xsimd::floor(cell[i] * D(0.125));
+      in_block[i] = cell[i] - b[i] * D(8.0);
+    }
+    (in_block[0] + in_block[1] * D(8.0) + in_block[2] * D(64.0)).store_aligned(local_[buffer]);
+    // Written as "not equal" by hand: a NaN (no block yet) must count as a
+    // change, and xsimd's != is an ordered compare, false for NaN.
+    moved_[buffer] = ~lane_bits<Arch>((b[0] == block_[0]) && (b[1] == block_[1]) && (b[2] == block_[2])) & active;
+    marking_[buffer] = active;
+    if (moved_[buffer] != 0) {
+      for (int i = 0; i < 3; ++i) {
+        b[i].store_aligned(new_block_[buffer][i]);
+        block_[i] = b[i];  // lanes that did not move already hold b
+      }
+    }
+  }
+
+  void mark(std::size_t buffer) {
+    for (unsigned bits = moved_[buffer]; bits != 0; bits &= bits - 1) {
+      const int lane = std::countr_zero(bits);
+      block_index_[lane] = sink_.block_index(sink_.context, static_cast<std::int32_t>(new_block_[buffer][0][lane]),
+                                             static_cast<std::int32_t>(new_block_[buffer][1][lane]),
+                                             static_cast<std::int32_t>(new_block_[buffer][2][lane]));
+    }
+    std::uint64_t* const masks = *sink_.masks;
+    // Every lane, without branches (nearly all are marking): a lane that is
+    // not ORs nothing into its last word.
+    const unsigned lanes = marking_[buffer];
+    if (lanes == 0) return;  // the first step: no marks and maybe no masks yet
+#pragma GCC unroll 8
+    for (std::size_t lane = 0; lane < N; ++lane) {
+      const auto cell = static_cast<unsigned>(local_[buffer][lane]);
+      const std::uint64_t bit = static_cast<std::uint64_t>((lanes >> lane) & 1u) << (cell & 63);
+      masks[kMarkBlockWords * block_index_[lane] + (cell >> 6)] |= bit;
+    }
+  }
+
+ private:
+  const BlockMaskSink& sink_;
+  D block_[3];  // the block each lane marks into (NaN: none yet)
+  // Per step, double-buffered: each lane's cell index in its block, the
+  // blocks of lanes that entered one, which lanes moved, which marked.
+  alignas(64) double local_[2][N];
+  alignas(64) double new_block_[2][3][N];
+  unsigned moved_[2] = {0, 0}, marking_[2] = {0, 0};
+  std::uint32_t block_index_[N] = {};
+};
+
+// Marks into a DenseMaskGrid: word = 8 x the block's place in the grid + z
+// in the block, bit = x + 8 y in the block, all in vector arithmetic.
+template <class Arch>
+class DenseGridMarker {
+ public:
+  using D = xsimd::batch<double, Arch>;
+  static constexpr std::size_t N = D::size;
+
+  explicit DenseGridMarker(const DenseMaskGrid& grid)
+      : words_(grid.words),
+        row_(static_cast<double>(grid.blocks[0]) * 8.0),
+        slab_(static_cast<double>(grid.blocks[0]) * static_cast<double>(grid.blocks[1]) * 8.0),
+        base_(-8.0 * (grid.first_block[0] + static_cast<double>(grid.blocks[0]) *
+                                                (grid.first_block[1] + static_cast<double>(grid.blocks[1]) *
+                                                                           grid.first_block[2]))) {}
+
+  void record(const D (&cell)[3], unsigned active, std::size_t buffer) {
+    D b[3], in_block[3];
+    for (int i = 0; i < 3; ++i) {
+      b[i] = xsimd::floor(cell[i] * D(0.125));
+      in_block[i] = cell[i] - b[i] * D(8.0);
+    }
+    // Lanes not marking may be anywhere (a parked lane sits on cell 0): mark()
+    // sends them to word 0 with no bit, so their word need not be in the grid.
+    store_as_int32<Arch>(base_ + b[0] * D(8.0) + b[1] * row_ + b[2] * slab_ + in_block[2], word_[buffer]);
+    store_as_int32<Arch>(in_block[0] + in_block[1] * D(8.0), bit_[buffer]);
+    marking_[buffer] = active;
+  }
+
+  void mark(std::size_t buffer) {
+    const unsigned lanes = marking_[buffer];
+#pragma GCC unroll 8
+    for (std::size_t lane = 0; lane < N; ++lane) {
+      const std::uint32_t on = (lanes >> lane) & 1u;
+      const std::uint64_t bit = static_cast<std::uint64_t>(on) << bit_[buffer][lane];
+      words_[static_cast<std::uint32_t>(word_[buffer][lane]) & (0u - on)] |= bit;
+    }
+  }
+
+ private:
+  std::uint64_t* words_;
+  D row_, slab_, base_;
+  // Per step, double-buffered: each lane's word and bit, which lanes mark.
+  alignas(64) std::int32_t word_[2][8] = {};
+  alignas(64) std::int32_t bit_[2][8] = {};
+  unsigned marking_[2] = {0, 0};
+};
+
+template <class Arch>
+std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::size_t count,
+                                const BlockMaskSink& sink) {
+  BlockSinkMarker<Arch> marker(sink);
+  return walk_ray_lanes<Arch>(start, ends, count, marker);
+}
+
+template <class Arch>
+std::size_t mark_ray_cells_dense_impl(const double start[3], const double* ends, std::size_t count,
+                                      const DenseMaskGrid& grid) {
+  DenseGridMarker<Arch> marker(grid);
+  return walk_ray_lanes<Arch>(start, ends, count, marker);
 }
 
 }  // namespace

@@ -1,11 +1,16 @@
 // The free-space walk of ray integration alone (kernels/ray_marking.hpp):
 // the scalar reference (one ray at a time, also the SSE4.2 path) against the
-// AVX2 and AVX-512 kernels (one ray per lane), 1 thread, same rays: the first
-// 16 frames of the default arena at 0.05 m, one ray to the centre of every
-// distinct end voxel per frame, as the integrator casts them.
+// AVX2 and AVX-512 kernels (one ray per lane), marking into blocks found
+// through a hash table (BM_RayMarking) and into a dense grid of blocks over
+// the frame's box, as the integrator does when the box is small enough
+// (BM_RayMarkingDense, grid cleared per frame inside the timing); 1 thread,
+// same rays: the first 16 frames of the default arena at 0.05 m, one ray to
+// the centre of every distinct end voxel per frame, as the integrator casts them.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -84,6 +89,44 @@ void BM_RayMarking(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(visits), benchmark::Counter::kIsIterationInvariantRate);
   state.SetLabel(reference ? "reference" : std::string(sarmap::kernels::to_string(level)));
 }
+
+// Arg: -1 for the scalar reference, else the SimdLevel.
+void BM_RayMarkingDense(benchmark::State& state) {
+  const bool reference = state.range(0) < 0;
+  const auto level = static_cast<sarmap::kernels::SimdLevel>(reference ? 0 : state.range(0));
+  if (!reference && !sarmap::kernels::simd_level_supported(level)) {
+    state.SkipWithError("not supported by this CPU");
+    return;
+  }
+  const auto& frames = frame_rays();
+  std::vector<std::uint64_t> words;
+  std::size_t visits = 0;
+  for (auto _ : state) {
+    visits = 0;
+    for (const FrameRays& f : frames) {
+      // The box of the origin's and the ends' blocks.
+      sarmap::kernels::DenseMaskGrid grid{};
+      std::size_t blocks = 1;
+      for (int i = 0; i < 3; ++i) {
+        double lo = f.origin[i], hi = f.origin[i];
+        for (std::size_t r = i; r < f.ends.size(); r += 3) lo = std::min(lo, f.ends[r]), hi = std::max(hi, f.ends[r]);
+        grid.first_block[i] = static_cast<std::int32_t>(std::floor(lo)) >> sarmap::kernels::kMarkBlockShift;
+        grid.blocks[i] =
+            (static_cast<std::int32_t>(std::floor(hi)) >> sarmap::kernels::kMarkBlockShift) - grid.first_block[i] + 1;
+        blocks *= static_cast<std::size_t>(grid.blocks[i]);
+      }
+      words.assign(blocks * sarmap::kernels::kMarkBlockWords, 0);
+      grid.words = words.data();
+      const std::size_t count = f.ends.size() / 3;
+      visits += reference ? sarmap::kernels::mark_ray_cells_dense_reference(f.origin.data(), f.ends.data(), count, grid)
+                          : sarmap::kernels::mark_ray_cells_dense(f.origin.data(), f.ends.data(), count, grid, level);
+    }
+  }
+  state.counters["voxel_visits_per_s"] =
+      benchmark::Counter(static_cast<double>(visits), benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(reference ? "reference" : std::string(sarmap::kernels::to_string(level)));
+}
+BENCHMARK(BM_RayMarkingDense)->ArgName("level")->Arg(-1)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(BM_RayMarking)->ArgName("level")->Arg(-1)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

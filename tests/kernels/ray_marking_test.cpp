@@ -2,11 +2,13 @@
 // dda_walk() cells one by one: random rays from inside and outside the
 // cells' grid, rays along axes and through cell edges and corners, rays that
 // stay in their start cell, negative coordinates, and batches whose lanes
-// finish at very different times.
+// finish at very different times; both into block masks found through a
+// sink and into a dense grid of blocks.
 #include "kernels/ray_marking.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -69,6 +71,42 @@ std::set<Cell> walked_cells(const double start[3], const std::vector<double>& en
   return out;
 }
 
+// A dense grid over the blocks of start and every end, with one block of
+// margin on each side so a stray mark outside the walk's box would show.
+struct DenseGrid {
+  DenseMaskGrid grid{};
+  std::vector<std::uint64_t> words;
+
+  DenseGrid(const std::array<double, 3>& start, const std::vector<double>& ends) {
+    std::size_t blocks = 1;
+    for (int i = 0; i < 3; ++i) {
+      double lo = start[i], hi = start[i];
+      for (std::size_t r = 0; r < ends.size() / 3; ++r) lo = std::min(lo, ends[3 * r + i]), hi = std::max(hi, ends[3 * r + i]);
+      grid.first_block[i] = (static_cast<std::int32_t>(std::floor(lo)) >> kMarkBlockShift) - 1;
+      grid.blocks[i] = (static_cast<std::int32_t>(std::floor(hi)) >> kMarkBlockShift) - grid.first_block[i] + 2;
+      blocks *= static_cast<std::size_t>(grid.blocks[i]);
+    }
+    words.assign(blocks * kMarkBlockWords, 0);
+    grid.words = words.data();
+  }
+
+  std::set<Cell> cells() const {
+    std::set<Cell> out;
+    for (std::size_t w = 0; w < words.size(); ++w) {
+      const auto block = static_cast<std::int32_t>(w / kMarkBlockWords);
+      const std::int32_t bx = grid.first_block[0] + block % grid.blocks[0];
+      const std::int32_t by = grid.first_block[1] + (block / grid.blocks[0]) % grid.blocks[1];
+      const std::int32_t bz = grid.first_block[2] + block / (grid.blocks[0] * grid.blocks[1]);
+      for (int bit = 0; bit < 64; ++bit) {
+        if ((words[w] >> bit) & 1) {
+          out.insert({bx * 8 + (bit & 7), by * 8 + (bit >> 3), bz * 8 + static_cast<std::int32_t>(w % kMarkBlockWords)});
+        }
+      }
+    }
+    return out;
+  }
+};
+
 void expect_same_cells(const std::array<double, 3>& start, const std::vector<double>& ends, const char* what) {
   std::size_t expected_visits = 0;
   const std::set<Cell> expected = walked_cells(start.data(), ends, &expected_visits);
@@ -83,6 +121,19 @@ void expect_same_cells(const std::array<double, 3>& start, const std::vector<dou
     EXPECT_EQ(mark_ray_cells(start.data(), ends.data(), ends.size() / 3, table.sink(), level), expected_visits)
         << what << " at " << to_string(level);
     EXPECT_EQ(table.cells(), expected) << what << " at " << to_string(level);
+  }
+  {
+    DenseGrid dense(start, ends);
+    EXPECT_EQ(mark_ray_cells_dense_reference(start.data(), ends.data(), ends.size() / 3, dense.grid),
+              expected_visits)
+        << what << ": dense reference";
+    EXPECT_EQ(dense.cells(), expected) << what << ": dense reference";
+  }
+  for (SimdLevel level : test::supported_levels()) {
+    DenseGrid dense(start, ends);
+    EXPECT_EQ(mark_ray_cells_dense(start.data(), ends.data(), ends.size() / 3, dense.grid, level), expected_visits)
+        << what << " dense at " << to_string(level);
+    EXPECT_EQ(dense.cells(), expected) << what << " dense at " << to_string(level);
   }
 }
 
