@@ -1,16 +1,20 @@
-// One scan in four passes: (1) serial dedupe of end points per voxel, with
-// their class observations; (2) parallel DDA walks that only set "miss" bits
-// in per-thread, per-block 512-bit masks (no locks, no atomics, no map
-// access); (3) a serial merge of the masks (OR, so the union does not depend
-// on which thread walked which ray), block creation in sorted key order, and
-// hit bits that override misses; (4) parallel updates, one block or one hit
-// voxel per task, so every voxel is written exactly once by one thread.
+// One scan in four passes: (1) the distinct end voxels with their class
+// observations (keys in parallel, grouping in point order: EndVoxelGroups);
+// (2) parallel DDA walks that only set "miss" bits in per-thread masks (no
+// locks, no atomics, no map access) — a dense grid of block masks over the
+// scan's box when it is small enough, which needs no look-up per block, else
+// masks found through a per-thread hash table; (3) a serial merge of the
+// masks (OR, so the union does not depend on which thread walked which ray),
+// block creation in sorted key order, and hit bits that override misses;
+// (4) parallel updates, one block or one hit voxel per task, so every voxel
+// is written exactly once by one thread.
 #include "engine/metric/ray_integrator.hpp"
 
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +24,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/metric/end_voxel_groups.hpp"
 #include "engine/metric/flat_key_index.hpp"
 #include "kernels/ray_marking.hpp"
 #include "kernels/simd_level.hpp"
@@ -37,12 +42,17 @@ struct ThreadRays {
   std::vector<BlockMask> miss;
   std::uint64_t* miss_words = nullptr;  // miss.data() as words, for the marking kernel
   std::size_t visits = 0;
+  // The dense alternative: a mask per block of the scan's box; valid for
+  // this scan only when dense_in_use (a thread that walked no ray has none).
+  std::vector<std::uint64_t> dense;
+  bool dense_in_use = false;
 
   void clear() {
     blocks.clear();
     miss.clear();
     miss_words = nullptr;
     visits = 0;
+    dense_in_use = false;
   }
   // kernels::BlockMaskSink::block_index: the mask of a block, created empty.
   static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
@@ -67,36 +77,64 @@ static_assert(sizeof(RayEnd) == 3 * sizeof(double), "ray ends are read as packed
 
 namespace {
 
-// Pass 1's work on one stretch of the scan's points: their distinct end
-// voxels in order of first appearance, with the observations, and (when not
-// discretising) their rays in point order.
+// Pass 1's work on one stretch of the scan's points: the box of their end
+// voxels, and (when not discretising) their rays in point order.
 struct PointChunk {
-  FlatKeyIndex index{1024};
-  std::vector<VoxelKey> keys;
-  std::vector<ClassObservation> observations;
+  VoxelBox box;
   std::vector<RayEnd> rays;
   std::size_t rejected = 0;
 
   void clear() {
-    index.clear();
-    keys.clear();
-    observations.clear();
+    box = {};
     rays.clear();
     rejected = 0;
   }
 };
 
-// Points per chunk: fixed, so the chunks (and the float sums of scores in
-// them) are the same for any thread count.
+// Points per chunk of pass 1's parallel part: fixed, so that the rays are
+// concatenated in the same order for any thread count.
 constexpr std::size_t kChunkPoints = 16384;
+
+// The marking kernel addresses the grid's words with 32-bit indices.
+constexpr std::size_t kDenseGridMaxBlocks = (std::size_t{1} << 31) / kernels::kMarkBlockWords;
+
+// The scan's box of blocks (the origin's and every ray end's, so every
+// cell a walk visits) as a dense mask grid without words, or nothing when it
+// has more than max_blocks blocks.
+std::optional<kernels::DenseMaskGrid> scan_block_box(const double start[3], const std::vector<RayEnd>& ends,
+                                                     std::size_t max_blocks) {
+  max_blocks = std::min(max_blocks, kDenseGridMaxBlocks - 1);
+  if (max_blocks == 0 || ends.empty()) return std::nullopt;
+  double lo[3] = {start[0], start[1], start[2]}, hi[3] = {start[0], start[1], start[2]};
+  for (const RayEnd& e : ends) {
+    lo[0] = std::min(lo[0], e.x), hi[0] = std::max(hi[0], e.x);
+    lo[1] = std::min(lo[1], e.y), hi[1] = std::max(hi[1], e.y);
+    lo[2] = std::min(lo[2], e.z), hi[2] = std::max(hi[2], e.z);
+  }
+  kernels::DenseMaskGrid grid{};
+  std::size_t blocks = 1;
+  for (int i = 0; i < 3; ++i) {
+    // Cells are floor(coordinate) as in dda_setup; coordinates are within the
+    // map limits, so these fit 32 bits.
+    grid.first_block[i] = static_cast<std::int32_t>(std::floor(lo[i])) >> kBlockShift;
+    grid.blocks[i] = (static_cast<std::int32_t>(std::floor(hi[i])) >> kBlockShift) - grid.first_block[i] + 1;
+    blocks *= static_cast<std::size_t>(grid.blocks[i]);
+    if (blocks > max_blocks) return std::nullopt;
+  }
+  return grid;
+}
+
+std::size_t dense_words(const kernels::DenseMaskGrid& grid) {
+  return kernels::kMarkBlockWords * static_cast<std::size_t>(grid.blocks[0]) * static_cast<std::size_t>(grid.blocks[1]) *
+         static_cast<std::size_t>(grid.blocks[2]);
+}
 
 }  // namespace
 
 struct RayIntegrator::Scratch {
   std::vector<PointChunk> chunks;
-  FlatKeyIndex end_index{65536};
-  std::vector<VoxelKey> end_keys;
-  std::vector<ClassObservation> observations;
+  std::vector<std::uint8_t> point_ends;  // per point: 1 if it has an end voxel (within limits, a hit or discretised)
+  EndVoxelGroups ends;
   std::vector<std::uint8_t> end_in_range;  // per distinct end voxel: is it a hit
   std::vector<RayEnd> ray_ends;
   tbb::enumerable_thread_specific<ThreadRays> threads;
@@ -116,6 +154,8 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
   hits += o.hits;
   misses += o.misses;
   blocks_created += o.blocks_created;
+  dense_walks += o.dense_walks;
+  dense_dedupes += o.dense_dedupes;
   return *this;
 }
 
@@ -131,35 +171,6 @@ RayIntegrator::RayIntegrator(RayIntegrator&&) noexcept = default;
 RayIntegrator& RayIntegrator::operator=(RayIntegrator&&) noexcept = default;
 
 namespace {
-
-// Score channels for all classes, by class id, or empty when any is missing.
-std::vector<std::span<const float>> class_score_channels(const PointBuffer& points) {
-  std::vector<std::span<const float>> channels;
-  for (const ClassInfo& info : kClassTable) {
-    const std::size_t c = points.find_score(std::string(info.name));
-    if (c == points.score_count()) return {};
-    channels.push_back(points.score(c));
-  }
-  return channels;
-}
-
-void add_observation(ClassObservation& obs, const PointBuffer& points, std::size_t i,
-                     const std::vector<std::span<const float>>& scores) {
-  ++obs.points;
-  std::size_t label = 0;
-  if (!scores.empty()) {
-    obs.has_scores = true;
-    float best = -1.0f;
-    for (std::size_t c = 0; c < kClassCount; ++c) {
-      const float s = scores[c][i];
-      obs.score_sums[c] += s;
-      if (s > best) best = s, label = c;
-    }
-  } else if (points.has_labels()) {
-    label = points.labels()[i];
-  }
-  if (obs.counts[label] < 0xffff) ++obs.counts[label];
-}
 
 }  // namespace
 
@@ -182,7 +193,6 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
       }
     }
   }
-  const auto scores = settings_.use_scores ? class_score_channels(points) : std::vector<std::span<const float>>{};
 
   const double inv_res = map.inv_resolution();
   const double res = map.resolution();
@@ -191,14 +201,13 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   // Range is measured in voxel units to stay in one coordinate system.
   const double max_range_v = max_range * inv_res;
 
-  // Pass 1: distinct end voxels, their observations, and the rays; in
-  // parallel over fixed chunks of points, merged in chunk order, so the end
-  // voxels keep the order of their first point whatever the thread count.
-  s.end_index.clear();
-  s.end_keys.clear();
-  s.observations.clear();
+  // Pass 1: distinct end voxels, their observations, and the rays. Keys and
+  // rays in parallel over fixed chunks of points (rays concatenated in chunk
+  // order), then grouping in point order, so the end voxels keep the order
+  // of their first point whatever the thread count.
   s.end_in_range.clear();
   s.ray_ends.clear();
+  s.point_ends.resize(points.size());
   const auto xs = points.x(), ys = points.y(), zs = points.z();
   const auto beyond = [&](double dx, double dy, double dz) {
     return max_range > 0 && std::sqrt(dx * dx + dy * dy + dz * dz) * res > max_range;
@@ -224,45 +233,39 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
       PointChunk& chunk = s.chunks[c];
       chunk.clear();
       const std::size_t end = std::min(points.size(), (c + 1) * kChunkPoints);
+      // A local box: the stores below might alias chunk.box, which would keep
+      // it in memory through the loop.
+      VoxelBox box;
       for (std::size_t i = c * kChunkPoints; i < end; ++i) {
         const double x = xs[i], y = ys[i], z = zs[i];
+        s.point_ends[i] = 0;
         if (!within_map_limits(x, y, z)) {
           ++chunk.rejected;
           continue;
         }
-        const VoxelKey key = key_of(x, y, z, inv_res);
-        if (!settings_.discretize) {
-          // Every point casts its own ray; only those in range are hits.
-          if (!add_ray(chunk.rays, {x * inv_res, y * inv_res, z * inv_res})) continue;
-        }
-        const std::uint32_t u = chunk.index.find_or_insert(pack(key));
-        if (u == chunk.keys.size()) {
-          chunk.keys.push_back(key);
-          chunk.observations.emplace_back();
-        }
-        add_observation(chunk.observations[u], points, i, scores);
+        // Every point casts its own ray unless discretising; only those in range are hits.
+        if (!settings_.discretize && !add_ray(chunk.rays, {x * inv_res, y * inv_res, z * inv_res})) continue;
+        s.point_ends[i] = 1;
+        box.add(key_of(x, y, z, inv_res));
       }
+      chunk.box = box;
     }
   });
+  VoxelBox end_box;
   for (std::size_t c = 0; c < chunk_count; ++c) {
     const PointChunk& chunk = s.chunks[c];
     stats.points_rejected += chunk.rejected;
+    end_box.add(chunk.box);
     s.ray_ends.insert(s.ray_ends.end(), chunk.rays.begin(), chunk.rays.end());
-    for (std::size_t u = 0; u < chunk.keys.size(); ++u) {
-      const std::uint32_t g = s.end_index.find_or_insert(pack(chunk.keys[u]));
-      if (g == s.end_keys.size()) {
-        s.end_keys.push_back(chunk.keys[u]);
-        s.observations.push_back(chunk.observations[u]);
-      } else {
-        s.observations[g].add(chunk.observations[u]);
-      }
-    }
   }
-  stats.end_voxels = s.end_keys.size();
-  s.end_in_range.assign(s.end_keys.size(), 1);
+  s.ends.group(points, inv_res, s.point_ends, end_box, settings_.use_scores, settings_.dense_dedupe_max_cells);
+  const std::vector<VoxelKey>& end_keys = s.ends.keys();
+  stats.dense_dedupes = s.ends.used_dense_table() ? 1 : 0;
+  stats.end_voxels = end_keys.size();
+  s.end_in_range.assign(end_keys.size(), 1);
   if (settings_.discretize) {
-    for (std::size_t u = 0; u < s.end_keys.size(); ++u) {
-      const VoxelKey& k = s.end_keys[u];
+    for (std::size_t u = 0; u < end_keys.size(); ++u) {
+      const VoxelKey& k = end_keys[u];
       s.end_in_range[u] = add_ray(s.ray_ends, {k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
     }
   }
@@ -272,14 +275,33 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   // in SIMD lanes where the CPU has AVX2 or AVX-512).
   for (ThreadRays& t : s.threads) t.clear();
   const kernels::SimdLevel level = kernels::active_simd_level();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      ThreadRays& t = s.threads.local();
-                      const kernels::BlockMaskSink sink{&ThreadRays::block_index, &t, &t.miss_words};
-                      const double start[3] = {o.x, o.y, o.z};
-                      t.visits += kernels::mark_ray_cells(start, &s.ray_ends[range.begin()].x, range.size(), sink,
-                                                          level);
-                    });
+  const double start[3] = {o.x, o.y, o.z};
+  const std::optional<kernels::DenseMaskGrid> box =
+      scan_block_box(start, s.ray_ends, settings_.dense_walk_max_blocks);
+  stats.dense_walks = box ? 1 : 0;
+  if (box) {
+    const std::size_t words = dense_words(*box);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        ThreadRays& t = s.threads.local();
+                        if (!t.dense_in_use) {
+                          t.dense.assign(words, 0);
+                          t.dense_in_use = true;
+                        }
+                        kernels::DenseMaskGrid grid = *box;
+                        grid.words = t.dense.data();
+                        t.visits += kernels::mark_ray_cells_dense(start, &s.ray_ends[range.begin()].x, range.size(),
+                                                                  grid, level);
+                      });
+  } else {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        ThreadRays& t = s.threads.local();
+                        const kernels::BlockMaskSink sink{&ThreadRays::block_index, &t, &t.miss_words};
+                        t.visits += kernels::mark_ray_cells(start, &s.ray_ends[range.begin()].x, range.size(), sink,
+                                                            level);
+                      });
+  }
 
   // Pass 3: merge, add hits, create blocks in sorted order.
   s.merged.clear();
@@ -297,15 +319,34 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
       for (std::size_t w = 0; w < m.size(); ++w) m[w] |= t.miss[b][w];
     }
   }
+  if (box) {
+    // The box's blocks in grid order; only those some ray crossed.
+    std::size_t g = 0;
+    for (std::int32_t k = 0; k < box->blocks[2]; ++k) {
+      for (std::int32_t j = 0; j < box->blocks[1]; ++j) {
+        for (std::int32_t i = 0; i < box->blocks[0]; ++i, ++g) {
+          BlockMask m{};
+          std::uint64_t any = 0;
+          for (const ThreadRays& t : s.threads) {
+            if (!t.dense_in_use) continue;
+            for (std::size_t w = 0; w < m.size(); ++w) m[w] |= t.dense[g * m.size() + w];
+          }
+          for (std::uint64_t w : m) any |= w;
+          if (any == 0) continue;
+          s.merged_miss[merged_index(pack(box->first_block[0] + i, box->first_block[1] + j, box->first_block[2] + k))] = m;
+        }
+      }
+    }
+  }
   s.hit_list.clear();
-  for (std::uint32_t u = 0; u < s.end_keys.size(); ++u) {
+  for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
     if (s.end_in_range[u]) s.hit_list.push_back(u);
   }
-  for (std::uint32_t u : s.hit_list) merged_index(pack(block_of(s.end_keys[u])));
+  for (std::uint32_t u : s.hit_list) merged_index(pack(block_of(end_keys[u])));
   s.merged_hit.assign(s.merged_miss.size(), BlockMask{});
   for (std::uint32_t u : s.hit_list) {
-    const int l = local_index(s.end_keys[u]);
-    s.merged_hit[s.merged.find(pack(block_of(s.end_keys[u])))][l >> 6] |= std::uint64_t{1} << (l & 63);
+    const int l = local_index(end_keys[u]);
+    s.merged_hit[s.merged.find(pack(block_of(end_keys[u])))][l >> 6] |= std::uint64_t{1} << (l & 63);
   }
   const auto& merged_keys = s.merged.keys();
   s.order.resize(merged_keys.size());
@@ -346,11 +387,11 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const std::uint32_t u = s.hit_list[i];
-                        const VoxelKey& k = s.end_keys[u];
+                        const VoxelKey& k = end_keys[u];
                         auto* block = s.block_of_index[s.merged.find(pack(block_of(k)))];
                         SemanticVoxel& v = block->voxels[local_index(k)];
                         v.log_odds = occ.add(v.log_odds, occ.hit());
-                        fusion.observe(v.evidence, s.observations[u]);
+                        fusion.observe(v.evidence, s.ends.observations()[u]);
                       }
                     });
   return stats;

@@ -26,6 +26,16 @@ struct IntegratorSettings {
   // Use per-class score channels named after the classes (probabilities) when
   // the buffer has all six; otherwise the hard labels.
   bool use_scores = true;
+  // The free-space walk marks into a dense grid of block masks over the
+  // scan's box (origin and ray ends) when the box has at most this many
+  // blocks (64 bytes each, per thread); beyond it, into blocks found through
+  // a hash table, which is slower per voxel but needs memory only where rays
+  // pass. 0 = always the hash table. Both give the same map.
+  std::size_t dense_walk_max_blocks = std::size_t{1} << 17;
+  // Likewise the end-voxel dedupe uses a dense table (4 bytes per voxel,
+  // kept between scans) over the box of the scan's end voxels when it has at
+  // most this many voxels, else a hash table; 0 = always the hash table.
+  std::size_t dense_dedupe_max_cells = std::size_t{1} << 24;
 };
 
 // Per-scan figures; summed over scans by operator+=.
@@ -39,6 +49,10 @@ struct IntegrationStats {
   std::size_t hits = 0;          // voxels updated as occupied this scan
   std::size_t misses = 0;        // voxels updated as free this scan
   std::size_t blocks_created = 0;
+  // Scans whose walk marked into the dense grid, and whose dedupe used the
+  // dense table (the others used hash tables; see IntegratorSettings).
+  std::size_t dense_walks = 0;
+  std::size_t dense_dedupes = 0;
 
   IntegrationStats& operator+=(const IntegrationStats& o);
 };

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
+#include <vector>
 #include <map>
 #include <set>
 #include <tuple>
@@ -279,6 +281,68 @@ TEST(RayIntegrator, LargeScansSpanningSeveralPointChunksMatchTheReference) {
   EXPECT_TRUE(maps_identical(one, two));
   EXPECT_TRUE(maps_identical(one, reference));
   EXPECT_GT(one.counts().occupied, 1000u);
+}
+
+// Gives every point per-class score channels: a made-up distribution that
+// varies from point to point, so the float sums depend on summation order.
+void add_class_scores(PointBuffer& points) {
+  std::vector<std::size_t> channels;
+  for (const ClassInfo& info : kClassTable) channels.push_back(points.add_score(std::string(info.name)));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    float total = 0;
+    for (std::size_t c = 0; c < channels.size(); ++c) total += 1.0f + static_cast<float>((i * 7 + c * 13) % 17);
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      points.score(channels[c])[i] = (1.0f + static_cast<float>((i * 7 + c * 13) % 17)) / total;
+    }
+  }
+}
+
+// The dense scratch (the walk's grid of block masks, the dedupe's table) and
+// the hash tables it replaces when a scan's box is too large give the same
+// map, with labels or scores, discretised or not, with or without a max range.
+TEST(RayIntegrator, DenseAndHashedScratchGiveIdenticalMaps) {
+  testing::SyntheticRoom room;
+  for (const bool discretize : {true, false}) {
+    for (const double max_range : {0.0, 1.5}) {
+      for (const bool scores : {false, true}) {
+        SCOPED_TRACE(::testing::Message() << "discretize " << discretize << ", max range " << max_range << ", scores "
+                                        << scores);
+        IntegratorSettings dense;
+        dense.discretize = discretize;
+        dense.max_range = max_range;
+        IntegratorSettings hashed = dense;
+        hashed.dense_walk_max_blocks = 0;
+        hashed.dense_dedupe_max_cells = 0;
+        // Limits below what any of these scans needs: the fallback is chosen per scan by size.
+        IntegratorSettings too_small = dense;
+        too_small.dense_walk_max_blocks = 1;
+        too_small.dense_dedupe_max_cells = 1;
+        MetricMap a(settings_at_resolution(kRes)), b(settings_at_resolution(kRes)), c(settings_at_resolution(kRes));
+        RayIntegrator ia(dense), ib(hashed), ic(too_small);
+        IntegrationStats sa, sb, sc;
+        std::size_t scans_with_end_voxels = 0;
+        for (int f = 0; f < 4; ++f) {
+          auto scan = room.frame(f, 4, 64, 48);
+          if (scores) add_class_scores(scan.points);
+          const IntegrationStats one = ia.integrate(a, scan.points, scan.origin);
+          scans_with_end_voxels += one.end_voxels > 0 ? 1 : 0;
+          sa += one;
+          sb += ib.integrate(b, scan.points, scan.origin);
+          sc += ic.integrate(c, scan.points, scan.origin);
+        }
+        EXPECT_EQ(sa.dense_walks, 4u);
+        EXPECT_EQ(sa.dense_dedupes, scans_with_end_voxels);  // nothing to dedupe when no point is in range
+        EXPECT_GE(scans_with_end_voxels, 3u);
+        EXPECT_EQ(sb.dense_walks + sb.dense_dedupes + sc.dense_walks + sc.dense_dedupes, 0u);
+        EXPECT_EQ(sa.voxel_visits, sb.voxel_visits);
+        EXPECT_EQ(sa.misses, sb.misses);
+        EXPECT_EQ(sa.hits, sb.hits);
+        EXPECT_GT(sa.misses, 1000u);
+        EXPECT_TRUE(maps_identical(a, b));
+        EXPECT_TRUE(maps_identical(a, c));
+      }
+    }
+  }
 }
 
 }  // namespace
