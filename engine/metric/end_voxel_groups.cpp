@@ -18,53 +18,61 @@ std::size_t VoxelBox::cells() const {
   return xy > std::numeric_limits<std::size_t>::max() / ez ? std::numeric_limits<std::size_t>::max() : xy * ez;
 }
 
-namespace {
-
-// Score channels for all classes, by class id, or empty when any is missing.
-std::vector<std::span<const float>> class_score_channels(const PointBuffer& points) {
-  std::vector<std::span<const float>> channels;
+ClassSource ClassSource::of(const PointBuffer& points, bool use_scores) {
+  ClassSource source;
+  if (points.has_labels()) source.labels = points.labels();
+  if (!use_scores) return source;
   for (const ClassInfo& info : kClassTable) {
     const std::size_t c = points.find_score(std::string(info.name));
-    if (c == points.score_count()) return {};
-    channels.push_back(points.score(c));
+    if (c == points.score_count()) {
+      source.scores.clear();
+      break;
+    }
+    source.scores.push_back(points.score(c));
   }
-  return channels;
+  return source;
 }
 
-// Folds point i into obs: its scores when there are score channels, else its label.
-void add_observation(ClassObservation& obs, std::size_t i, const std::vector<std::span<const float>>& scores,
-                     std::span<const std::uint8_t> labels) {
+LocalEndGroups::LocalEndGroups() : cache_(std::size_t{1} << kCacheBits) {}
+
+void LocalEndGroups::clear() {
+  std::fill(cache_.begin(), cache_.end(), Slot{});
+  keys_.clear();
+  observations_.clear();
+  box_ = {};
+}
+
+void LocalEndGroups::observe(ClassObservation& obs, std::size_t i, const ClassSource& source) {
   ++obs.points;
   std::size_t label = 0;
-  if (!scores.empty()) {
+  if (!source.scores.empty()) {
     obs.has_scores = true;
     float best = -1.0f;
     for (std::size_t c = 0; c < kClassCount; ++c) {
-      const float s = scores[c][i];
+      const float s = source.scores[c][i];
       obs.score_sums[c] += s;
       if (s > best) best = s, label = c;
     }
-  } else if (!labels.empty()) {
-    label = labels[i];
+  } else if (!source.labels.empty()) {
+    label = source.labels[i];
   }
   if (obs.counts[label] < 0xffff) ++obs.counts[label];
 }
 
-}  // namespace
-
-void EndVoxelGroups::group(const PointBuffer& points, double inv_resolution, std::span<const std::uint8_t> ends,
-                           const VoxelBox& box, bool use_scores, std::size_t max_dense_cells) {
+void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells) {
   keys_.clear();
   observations_.clear();
-  const auto scores = use_scores ? class_score_channels(points) : std::vector<std::span<const float>>{};
-  const auto xs = points.x(), ys = points.y(), zs = points.z();
-  const std::span<const std::uint8_t> labels =
-      points.has_labels() ? points.labels() : std::span<const std::uint8_t>{};
-  // Appends a new group for key; returns its index.
-  const auto open_group = [&](const VoxelKey& key) {
-    keys_.push_back(key);
-    observations_.emplace_back();
-    return static_cast<std::uint32_t>(keys_.size() - 1);
+  VoxelBox box;
+  for (const LocalEndGroups& stretch : stretches) box.add(stretch.box());
+  // Adds a stretch's group to the global group at index slot, opening it
+  // when slot is the next index.
+  const auto fold = [&](std::uint32_t slot, const VoxelKey& key, const ClassObservation& obs) {
+    if (slot == keys_.size()) {
+      keys_.push_back(key);
+      observations_.push_back(obs);
+    } else {
+      observations_[slot].add(obs);
+    }
   };
 
   const std::size_t cells = box.cells();
@@ -77,22 +85,20 @@ void EndVoxelGroups::group(const PointBuffer& points, double inv_resolution, std
       return static_cast<std::size_t>(k.x - box.lo.x) + ex * static_cast<std::size_t>(k.y - box.lo.y) +
              exy * static_cast<std::size_t>(k.z - box.lo.z);
     };
-    for (std::size_t i = 0; i < ends.size(); ++i) {
-      if (!ends[i]) continue;
-      const VoxelKey key = key_of(xs[i], ys[i], zs[i], inv_resolution);
-      std::uint32_t& slot = dense_[cell_of(key)];
-      if (slot == 0) slot = open_group(key) + 1;
-      add_observation(observations_[slot - 1], i, scores, labels);
+    for (const LocalEndGroups& stretch : stretches) {
+      for (std::size_t g = 0; g < stretch.keys().size(); ++g) {
+        std::uint32_t& slot = dense_[cell_of(stretch.keys()[g])];
+        if (slot == 0) slot = static_cast<std::uint32_t>(keys_.size()) + 1;
+        fold(slot - 1, stretch.keys()[g], stretch.observations()[g]);
+      }
     }
     for (const VoxelKey& key : keys_) dense_[cell_of(key)] = 0;
   } else {
     hashed_.clear();
-    for (std::size_t i = 0; i < ends.size(); ++i) {
-      if (!ends[i]) continue;
-      const VoxelKey key = key_of(xs[i], ys[i], zs[i], inv_resolution);
-      const std::uint32_t u = hashed_.find_or_insert(pack(key));
-      if (u == keys_.size()) open_group(key);
-      add_observation(observations_[u], i, scores, labels);
+    for (const LocalEndGroups& stretch : stretches) {
+      for (std::size_t g = 0; g < stretch.keys().size(); ++g) {
+        fold(hashed_.find_or_insert(pack(stretch.keys()[g])), stretch.keys()[g], stretch.observations()[g]);
+      }
     }
   }
 }

@@ -1,12 +1,16 @@
-// The distinct voxels a scan's points end in, in order of each voxel's first
-// point, with what those points say about its class: the end-voxel dedupe of
-// ray integration (each voxel is cast once and updated once per scan).
-//
-// Grouping runs in point order on one thread, so the float sums of class
-// scores do not depend on the thread count. A voxel is found through a dense
-// table over the box of the scan's end voxels when the box is small enough —
-// one load per point, and neighbouring points of a depth image share cache
-// lines — or else through a hash table; both give the same groups.
+// The distinct voxels a scan's points end in, with what those points say
+// about each voxel's class: the end-voxel dedupe of ray integration (each
+// voxel is cast once and updated once per scan). Two steps:
+//  - LocalEndGroups, in parallel over fixed stretches of points: fold each
+//    point into the group of its voxel, found through a small direct-mapped
+//    cache of recent voxels. Neighbouring points of a depth image mostly
+//    share voxels, so most points fold into an existing group; a voxel that
+//    fell out of the cache opens another group, which the merge adds up.
+//  - EndVoxelGroups::merge, serially over the stretches' groups in order:
+//    one group per voxel, found through a dense table over the box of the
+//    scan's end voxels when the box is small enough, else through a hash table.
+// Float sums of class scores are added in an order fixed by the stretches,
+// so the result depends neither on the thread count nor on the table.
 #pragma once
 
 #include <cstddef>
@@ -44,22 +48,69 @@ struct VoxelBox {
   std::size_t cells() const;
 };
 
+// Where a point's class observation comes from: per-class score channels
+// (by class id) when there are any, else the labels, else class 0.
+struct ClassSource {
+  std::vector<std::span<const float>> scores;
+  std::span<const std::uint8_t> labels;
+
+  // Scores when use_scores and points has a score channel named after every class.
+  static ClassSource of(const PointBuffer& points, bool use_scores);
+};
+
+class LocalEndGroups {
+ public:
+  LocalEndGroups();
+  // Forgets the groups and the cache.
+  void clear();
+  // Folds point i, whose voxel is key, into a group. Inline: once per point.
+  void add(const VoxelKey& key, std::size_t i, const ClassSource& source) {
+    Slot& slot = cache_[cache_slot(key)];
+    if (slot.group == kNoGroup || !(slot.key == key)) {
+      slot.key = key;
+      slot.group = static_cast<std::uint32_t>(keys_.size());
+      keys_.push_back(key);
+      observations_.emplace_back();
+      box_.add(key);
+    }
+    observe(observations_[slot.group], i, source);
+  }
+
+  const std::vector<VoxelKey>& keys() const { return keys_; }
+  const std::vector<ClassObservation>& observations() const { return observations_; }
+  const VoxelBox& box() const { return box_; }
+
+ private:
+  static constexpr std::uint32_t kNoGroup = 0xffffffffu;
+  static constexpr int kCacheBits = 10;
+  struct Slot {
+    VoxelKey key;
+    std::uint32_t group = kNoGroup;
+  };
+  static std::size_t cache_slot(const VoxelKey& k) {
+    const std::uint32_t h = static_cast<std::uint32_t>(k.x) * 0x9e3779b1u ^ static_cast<std::uint32_t>(k.y) * 0x85ebca77u ^
+                            static_cast<std::uint32_t>(k.z) * 0xc2b2ae3du;
+    return h >> (32 - kCacheBits);
+  }
+  static void observe(ClassObservation& obs, std::size_t i, const ClassSource& source);
+
+  std::vector<Slot> cache_;
+  std::vector<VoxelKey> keys_;
+  std::vector<ClassObservation> observations_;
+  VoxelBox box_;
+};
+
 class EndVoxelGroups {
  public:
-  // Groups the points i with ends[i] != 0 by their voxel at inv_resolution
-  // (every such point is within the map limits and its voxel inside box).
-  // Observations take per-class scores when use_scores and points has a
-  // score channel named after every class, else the labels (class 0 without
-  // labels). The dense table is used when box has at most max_dense_cells
-  // cells. (Keys are recomputed here rather than passed in: writing and
-  // reading 12 bytes per point cost more than the arithmetic.)
-  void group(const PointBuffer& points, double inv_resolution, std::span<const std::uint8_t> ends,
-             const VoxelBox& box, bool use_scores, std::size_t max_dense_cells);
+  // One group per voxel of the stretches' groups, in order of first
+  // appearance; the dense table is used when the box of all their voxels
+  // has at most max_dense_cells cells.
+  void merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells);
 
   std::size_t size() const { return keys_.size(); }
   const std::vector<VoxelKey>& keys() const { return keys_; }
   const std::vector<ClassObservation>& observations() const { return observations_; }
-  // Whether the last group() used the dense table (for tests).
+  // Whether the last merge() used the dense table (for tests).
   bool used_dense_table() const { return used_dense_; }
 
  private:
@@ -67,7 +118,7 @@ class EndVoxelGroups {
   std::vector<ClassObservation> observations_;
   FlatKeyIndex hashed_{65536};
   // Dense table: group index + 1 per cell of the box, 0 for none; all zero
-  // between calls (group() resets the cells it used).
+  // between calls (merge() resets the cells it used).
   std::vector<std::uint32_t> dense_;
   bool used_dense_ = false;
 };

@@ -1,5 +1,5 @@
 // One scan in four passes: (1) the distinct end voxels with their class
-// observations (keys in parallel, grouping in point order: EndVoxelGroups);
+// observations (grouped locally in parallel, merged in order: end_voxel_groups.hpp);
 // (2) parallel DDA walks that only set "miss" bits in per-thread masks (no
 // locks, no atomics, no map access) — a dense grid of block masks over the
 // scan's box when it is small enough, which needs no look-up per block, else
@@ -77,15 +77,14 @@ static_assert(sizeof(RayEnd) == 3 * sizeof(double), "ray ends are read as packed
 
 namespace {
 
-// Pass 1's work on one stretch of the scan's points: the box of their end
-// voxels, and (when not discretising) their rays in point order.
+// Pass 1's work on one stretch of the scan's points besides their end-voxel
+// groups (Scratch::local_groups): (when not discretising) their rays in
+// point order, and the points rejected.
 struct PointChunk {
-  VoxelBox box;
   std::vector<RayEnd> rays;
   std::size_t rejected = 0;
 
   void clear() {
-    box = {};
     rays.clear();
     rejected = 0;
   }
@@ -133,7 +132,7 @@ std::size_t dense_words(const kernels::DenseMaskGrid& grid) {
 
 struct RayIntegrator::Scratch {
   std::vector<PointChunk> chunks;
-  std::vector<std::uint8_t> point_ends;  // per point: 1 if it has an end voxel (within limits, a hit or discretised)
+  std::vector<LocalEndGroups> local_groups;  // per chunk
   EndVoxelGroups ends;
   std::vector<std::uint8_t> end_in_range;  // per distinct end voxel: is it a hit
   std::vector<RayEnd> ray_ends;
@@ -201,13 +200,12 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   // Range is measured in voxel units to stay in one coordinate system.
   const double max_range_v = max_range * inv_res;
 
-  // Pass 1: distinct end voxels, their observations, and the rays. Keys and
-  // rays in parallel over fixed chunks of points (rays concatenated in chunk
-  // order), then grouping in point order, so the end voxels keep the order
-  // of their first point whatever the thread count.
+  // Pass 1: distinct end voxels, their observations, and the rays: keys,
+  // local groups and rays in parallel over fixed chunks of points (rays
+  // concatenated in chunk order), then the groups merged in chunk order, so
+  // nothing depends on the thread count.
   s.end_in_range.clear();
   s.ray_ends.clear();
-  s.point_ends.resize(points.size());
   const auto xs = points.x(), ys = points.y(), zs = points.z();
   const auto beyond = [&](double dx, double dy, double dz) {
     return max_range > 0 && std::sqrt(dx * dx + dy * dy + dz * dz) * res > max_range;
@@ -228,37 +226,33 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   };
   const std::size_t chunk_count = (points.size() + kChunkPoints - 1) / kChunkPoints;
   if (s.chunks.size() < chunk_count) s.chunks.resize(chunk_count);
+  if (s.local_groups.size() < chunk_count) s.local_groups.resize(chunk_count);
+  const ClassSource class_source = ClassSource::of(points, settings_.use_scores);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t c = r.begin(); c != r.end(); ++c) {
       PointChunk& chunk = s.chunks[c];
+      LocalEndGroups& groups = s.local_groups[c];
       chunk.clear();
+      groups.clear();
       const std::size_t end = std::min(points.size(), (c + 1) * kChunkPoints);
-      // A local box: the stores below might alias chunk.box, which would keep
-      // it in memory through the loop.
-      VoxelBox box;
       for (std::size_t i = c * kChunkPoints; i < end; ++i) {
         const double x = xs[i], y = ys[i], z = zs[i];
-        s.point_ends[i] = 0;
         if (!within_map_limits(x, y, z)) {
           ++chunk.rejected;
           continue;
         }
         // Every point casts its own ray unless discretising; only those in range are hits.
         if (!settings_.discretize && !add_ray(chunk.rays, {x * inv_res, y * inv_res, z * inv_res})) continue;
-        s.point_ends[i] = 1;
-        box.add(key_of(x, y, z, inv_res));
+        groups.add(key_of(x, y, z, inv_res), i, class_source);
       }
-      chunk.box = box;
     }
   });
-  VoxelBox end_box;
   for (std::size_t c = 0; c < chunk_count; ++c) {
     const PointChunk& chunk = s.chunks[c];
     stats.points_rejected += chunk.rejected;
-    end_box.add(chunk.box);
     s.ray_ends.insert(s.ray_ends.end(), chunk.rays.begin(), chunk.rays.end());
   }
-  s.ends.group(points, inv_res, s.point_ends, end_box, settings_.use_scores, settings_.dense_dedupe_max_cells);
+  s.ends.merge(std::span<const LocalEndGroups>(s.local_groups.data(), chunk_count), settings_.dense_dedupe_max_cells);
   const std::vector<VoxelKey>& end_keys = s.ends.keys();
   stats.dense_dedupes = s.ends.used_dense_table() ? 1 : 0;
   stats.end_voxels = end_keys.size();

@@ -1,0 +1,103 @@
+// The end-voxel dedupe on its own: local groups that lose a voxel from their
+// cache and open it again, merged into one group per voxel with every
+// point's observation, in order of first appearance, identically through
+// the dense table and the hash table; labels or scores as the class source.
+#include "engine/metric/end_voxel_groups.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "engine/core/classes.hpp"
+
+namespace sarmap::metric {
+namespace {
+
+// Points whose voxel (i % distinct, -3, 7) cycles through more voxels than
+// the local cache holds, so every voxel is opened again on each round.
+struct CyclingScan {
+  PointBuffer points;
+  std::vector<VoxelKey> keys;
+
+  CyclingScan(int distinct, int rounds) {
+    points.enable_labels();
+    for (int r = 0; r < rounds; ++r) {
+      for (int v = 0; v < distinct; ++v) {
+        points.push_back(static_cast<float>(v), -3.0f, 7.0f);
+        points.labels()[points.size() - 1] = static_cast<std::uint8_t>((v + r) % kClassCount);
+        keys.push_back({v, -3, 7});
+      }
+    }
+  }
+};
+
+std::vector<LocalEndGroups> group_in_stretches(const CyclingScan& scan, std::size_t stretch, const ClassSource& source) {
+  std::vector<LocalEndGroups> stretches((scan.keys.size() + stretch - 1) / stretch);
+  for (std::size_t i = 0; i < scan.keys.size(); ++i) stretches[i / stretch].add(scan.keys[i], i, source);
+  return stretches;
+}
+
+TEST(EndVoxelGroups, VoxelsEvictedFromTheLocalCacheMergeIntoOneGroupEach) {
+  const int distinct = 5000, rounds = 3;
+  const CyclingScan scan(distinct, rounds);
+  const ClassSource source = ClassSource::of(scan.points, true);
+  const std::vector<LocalEndGroups> stretches = group_in_stretches(scan, 4096, source);
+  std::size_t local = 0;
+  for (const LocalEndGroups& s : stretches) local += s.keys().size();
+  ASSERT_GT(local, static_cast<std::size_t>(distinct) * rounds / 2);  // the cache really missed
+
+  for (const std::size_t dense_limit : {std::size_t{1} << 20, std::size_t{0}}) {
+    EndVoxelGroups groups;
+    groups.merge(stretches, dense_limit);
+    EXPECT_EQ(groups.used_dense_table(), dense_limit != 0);
+    ASSERT_EQ(groups.size(), static_cast<std::size_t>(distinct));
+    for (int v = 0; v < distinct; ++v) {
+      EXPECT_EQ(groups.keys()[v], (VoxelKey{v, -3, 7}));  // order of first appearance
+      const ClassObservation& obs = groups.observations()[v];
+      EXPECT_EQ(obs.points, static_cast<std::uint32_t>(rounds));
+      for (int r = 0; r < rounds; ++r) EXPECT_GE(obs.counts[(v + r) % kClassCount], 1u);
+      EXPECT_FALSE(obs.has_scores);
+    }
+    // The dense table is left clean: a second merge gives the same groups.
+    EndVoxelGroups again = groups;
+    again.merge(stretches, dense_limit);
+    EXPECT_EQ(again.keys(), groups.keys());
+  }
+}
+
+TEST(EndVoxelGroups, ScoresAreSummedPerVoxelAndTheSameThroughEitherTable) {
+  CyclingScan scan(1500, 2);
+  std::vector<std::size_t> channels;
+  for (const ClassInfo& info : kClassTable) channels.push_back(scan.points.add_score(std::string(info.name)));
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      scan.points.score(channels[c])[i] = c == i % kClassCount ? 0.75f : 0.05f;
+    }
+  }
+  const ClassSource source = ClassSource::of(scan.points, true);
+  ASSERT_EQ(source.scores.size(), kClassCount);
+  const std::vector<LocalEndGroups> stretches = group_in_stretches(scan, 1000, source);
+  EndVoxelGroups dense, hashed;
+  dense.merge(stretches, std::size_t{1} << 20);
+  hashed.merge(stretches, 0);
+  ASSERT_EQ(dense.size(), 1500u);
+  ASSERT_EQ(hashed.keys(), dense.keys());
+  for (std::size_t v = 0; v < dense.size(); ++v) {
+    const ClassObservation& a = dense.observations()[v];
+    const ClassObservation& b = hashed.observations()[v];
+    EXPECT_TRUE(a.has_scores);
+    EXPECT_EQ(a.points, 2u);
+    float total = 0;
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      EXPECT_EQ(a.score_sums[c], b.score_sums[c]);
+      total += a.score_sums[c];
+    }
+    EXPECT_NEAR(total, 2 * (0.75f + 5 * 0.05f), 1e-5f);
+  }
+  // Without use_scores the labels are the source even when scores exist.
+  EXPECT_TRUE(ClassSource::of(scan.points, false).scores.empty());
+}
+
+}  // namespace
+}  // namespace sarmap::metric
