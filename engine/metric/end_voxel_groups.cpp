@@ -42,23 +42,6 @@ void LocalEndGroups::clear() {
   box_ = {};
 }
 
-void LocalEndGroups::observe(ClassObservation& obs, std::size_t i, const ClassSource& source) {
-  ++obs.points;
-  std::size_t label = 0;
-  if (!source.scores.empty()) {
-    obs.has_scores = true;
-    float best = -1.0f;
-    for (std::size_t c = 0; c < kClassCount; ++c) {
-      const float s = source.scores[c][i];
-      obs.score_sums[c] += s;
-      if (s > best) best = s, label = c;
-    }
-  } else if (!source.labels.empty()) {
-    label = source.labels[i];
-  }
-  if (obs.counts[label] < 0xffff) ++obs.counts[label];
-}
-
 void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells) {
   keys_.clear();
   observations_.clear();

@@ -92,7 +92,23 @@ class LocalEndGroups {
                             static_cast<std::uint32_t>(k.z) * 0xc2b2ae3du;
     return h >> (32 - kCacheBits);
   }
-  static void observe(ClassObservation& obs, std::size_t i, const ClassSource& source);
+  // Inline: called once per point.
+  static void observe(ClassObservation& obs, std::size_t i, const ClassSource& source) {
+    ++obs.points;
+    std::size_t label = 0;
+    if (!source.scores.empty()) {
+      obs.has_scores = true;
+      float best = -1.0f;
+      for (std::size_t c = 0; c < kClassCount; ++c) {
+        const float s = source.scores[c][i];
+        obs.score_sums[c] += s;
+        if (s > best) best = s, label = c;
+      }
+    } else if (!source.labels.empty()) {
+      label = source.labels[i];
+    }
+    if (obs.counts[label] < 0xffff) ++obs.counts[label];
+  }
 
   std::vector<Slot> cache_;
   std::vector<VoxelKey> keys_;

@@ -79,10 +79,6 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
   }
 }
 
-void LabelFusion::decay(ClassEvidence& evidence) const {
-  for (auto& e : evidence) e = static_cast<std::int16_t>(e * keep_q8_ / 256);
-}
-
 ClassId LabelFusion::dominant(const ClassEvidence& evidence) {
   std::size_t best = 0;
   for (std::size_t c = 1; c < kClassCount; ++c) {

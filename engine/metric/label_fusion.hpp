@@ -57,7 +57,10 @@ class LabelFusion {
   // One update per voxel per scan, with everything its points said.
   void observe(ClassEvidence& evidence, const ClassObservation& observation) const;
   // A miss that leaves the voxel free: evidence shrinks towards none.
-  void decay(ClassEvidence& evidence) const;
+  // Inline: called for every free voxel of every scan.
+  void decay(ClassEvidence& evidence) const {
+    for (auto& e : evidence) e = static_cast<std::int16_t>(e * keep_q8_ / 256);
+  }
   // The class with the most evidence (lowest id on ties); Unknown when none has any.
   static ClassId dominant(const ClassEvidence& evidence);
 
