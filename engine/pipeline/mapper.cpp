@@ -76,6 +76,8 @@ void Mapper::integrate(Scan& scan) {
     profile_.add_count("metric", "rays", static_cast<double>(s.rays));
     profile_.add_count("metric", "voxel_visits", static_cast<double>(s.voxel_visits));
     profile_.add_count("metric", "voxels_updated", static_cast<double>(s.hits + s.misses));
+    // Scans too large for the dense scratch run slower through hash tables (IntegratorSettings).
+    profile_.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
     if (config_.bounds.limited()) {
       const std::size_t dropped = metric::apply_bounds(map_, scan.origin, config_.bounds);
       blocks_dropped_ += dropped;

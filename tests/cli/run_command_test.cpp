@@ -96,6 +96,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
   EXPECT_GT(metric.at("rays").get<double>(), 0.0);
   EXPECT_GT(metric.at("voxel_visits").get<double>(), 0.0);
   EXPECT_GT(metric.at("voxels_updated").get<double>(), 0.0);
+  EXPECT_EQ(metric.at("scans_hashed_walk").get<double>(), 0.0);  // two small scans: the dense grid
   ASSERT_EQ(profile.at("per_scan").size(), 2u);
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);

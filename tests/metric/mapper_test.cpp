@@ -40,6 +40,7 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   EXPECT_DOUBLE_EQ(p.counter("classify", "points"), static_cast<double>(points - 3));
   EXPECT_GT(p.counter("metric", "rays"), 0.0);
   EXPECT_GT(p.counter("metric", "voxel_visits"), p.counter("metric", "rays"));
+  EXPECT_DOUBLE_EQ(p.counter("metric", "scans_hashed_walk"), 0.0);
   EXPECT_GT(mapper.metric_map().counts().occupied, 100u);
   // One kept point per 0.1 m voxel, its label carried as prediction and ground truth.
   const PointBuffer& kept = mapper.semantic_points();
@@ -52,6 +53,24 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   }
   EXPECT_EQ(voxels.size(), kept.size());
   EXPECT_LT(kept.size(), points / 4);
+}
+
+// Scans whose box is too large for the dense marking grid are counted.
+TEST(Mapper, CountsScansWalkedThroughHashTables) {
+  MapperConfig config;
+  config.voxel = 0.1;
+  config.classifier.kind = "labels";
+  config.integrator.dense_walk_max_blocks = 4;  // smaller than any scan of the room at 0.1 m
+  Mapper mapper(config, SensorInfo{});
+  testing::SyntheticRoom room;
+  for (int f = 0; f < 2; ++f) {
+    auto r = room.frame(f, 2, 64, 48);
+    Scan scan;
+    scan.points = r.points;
+    scan.origin = r.origin;
+    mapper.integrate(scan);
+  }
+  EXPECT_DOUBLE_EQ(mapper.profile().counter("metric", "scans_hashed_walk"), 2.0);
 }
 
 TEST(Mapper, GeometricClassifierLabelsAndKeepsGroundTruth) {
