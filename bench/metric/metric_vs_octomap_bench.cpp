@@ -2,10 +2,11 @@
 // the same simulated sequence: OctoMap's insertPointCloud(..., discretize=true)
 // versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, and
 // both at 320 x 240 and 640 x 480. Each iteration maps all 160 frames into a
-// fresh map.
+// fresh map; each case runs three times and reports the fastest too.
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -99,17 +100,27 @@ void BM_Sarmap(benchmark::State& state) {
   state.counters["memory_MB"] = static_cast<double>(bytes) / 1e6;
 }
 
+// Each case runs three times and reports the fastest as "_min" besides the
+// mean: on a shared machine a burst of other work slows one run, and
+// OctoMap's single long iterations suffer most; the ratio of the minima is
+// the sturdier comparison.
+double fastest(const std::vector<double>& runs) { return *std::min_element(runs.begin(), runs.end()); }
+
 BENCHMARK(BM_OctoMap)->ArgNames({"res_mm", "width"})->Args({50, 320})->Args({25, 320})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
 BENCHMARK(BM_Sarmap)->ArgNames({"res_mm", "width", "threads"})
     ->Args({50, 320, 1})->Args({50, 320, 2})->Args({25, 320, 1})->Args({25, 320, 2})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
 // Scaling with image size; OctoMap at 640 x 480 only at 0.05 m (0.025 m takes minutes).
 BENCHMARK(BM_OctoMap)->Name("BM_OctoMap_640")->ArgNames({"res_mm", "width"})->Args({50, 640})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
 BENCHMARK(BM_Sarmap)->Name("BM_Sarmap_640")->ArgNames({"res_mm", "width", "threads"})
     ->Args({50, 640, 2})->Args({25, 640, 1})->Args({25, 640, 2})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
 
 }  // namespace
 
