@@ -149,6 +149,22 @@ TEST(RayIntegrator, RejectsAndCountsPointsBeyondTenKilometres) {
   EXPECT_THROW(integrator.integrate(map, pts, {20000, 0, 0}), Error);
 }
 
+// Points a kilometre apart make a scan box far beyond the dense tables'
+// limits (1.25 M blocks, 80 M cells at 0.05 m): the scan goes through the
+// hash tables, and the rays are walked all the same.
+TEST(RayIntegrator, ScanBoxesAKilometreWideUseTheHashTables) {
+  MetricMap map(settings_at_resolution(kRes));
+  RayIntegrator integrator;
+  const PointBuffer pts = cloud({{500.0f, 0.5f, 0.5f}, {-500.0f, -200.0f, 0.5f}, {0.2f, 0.1f, 0.3f}});
+  const auto stats = integrator.integrate(map, pts, {0.025, 0.025, 0.025});
+  EXPECT_EQ(stats.rays, 3u);
+  EXPECT_EQ(stats.dense_walks, 0u);
+  EXPECT_EQ(stats.dense_dedupes, 0u);
+  EXPECT_GT(stats.voxel_visits, 2 * 10000u);  // both long rays walked cell by cell
+  EXPECT_EQ(map.state_at({500.01, 0.5, 0.5}), VoxelState::Occupied);
+  EXPECT_EQ(map.state_at({250.02, 0.27, 0.27}), VoxelState::Free);
+}
+
 TEST(RayIntegrator, BadLabelThrowsBeforeTouchingTheMap) {
   MetricMap map(settings_at_resolution(kRes));
   RayIntegrator integrator;
