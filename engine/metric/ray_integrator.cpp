@@ -275,7 +275,9 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   stats.dense_walks = box ? 1 : 0;
   if (box) {
     const std::size_t words = dense_words(*box);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
+    // Ranges of at least 1024 rays: the SIMD lanes drain at the end of every
+    // call, so short calls leave lanes idle (64 measured 4-8 % slower at 1 thread).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         ThreadRays& t = s.threads.local();
                         if (!t.dense_in_use) {
