@@ -1,5 +1,7 @@
 #include "kernels/ray_marking.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "kernels/dda_walk.hpp"
@@ -39,6 +41,25 @@ std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_
     case SimdLevel::Sse42: break;  // two lanes of doubles do not pay for the lane bookkeeping
   }
   return mark_ray_cells_reference(start, ends, count, sink);
+}
+
+DenseMaskGrid dense_grid_covering(const double start[3], const double* ends, std::size_t count) {
+  double lo[3] = {start[0], start[1], start[2]}, hi[3] = {start[0], start[1], start[2]};
+  for (std::size_t r = 0; r < count; ++r) {
+    for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], ends[3 * r + i]), hi[i] = std::max(hi[i], ends[3 * r + i]);
+  }
+  DenseMaskGrid grid{};
+  for (int i = 0; i < 3; ++i) {
+    // A cell is floor(coordinate), as in dda_setup().
+    grid.first_block[i] = static_cast<std::int32_t>(std::floor(lo[i])) >> kMarkBlockShift;
+    grid.blocks[i] = (static_cast<std::int32_t>(std::floor(hi[i])) >> kMarkBlockShift) - grid.first_block[i] + 1;
+  }
+  return grid;
+}
+
+std::size_t dense_grid_blocks(const DenseMaskGrid& grid) {
+  return static_cast<std::size_t>(grid.blocks[0]) * static_cast<std::size_t>(grid.blocks[1]) *
+         static_cast<std::size_t>(grid.blocks[2]);
 }
 
 std::size_t mark_ray_cells_dense_reference(const double start[3], const double* ends, std::size_t count,

@@ -50,6 +50,14 @@ struct DenseMaskGrid {
   std::uint64_t* words;
 };
 
+// The smallest grid (words left null) that holds every cell of the walks
+// from start to ends[3 r ..], r < count: the box of the blocks of start and
+// of every end (a walk's cells lie between its first and last cell on every
+// axis). Coordinates in cell units, finite and within int32 range.
+DenseMaskGrid dense_grid_covering(const double start[3], const double* ends, std::size_t count);
+// Blocks in a grid; its words are kMarkBlockWords times as many.
+std::size_t dense_grid_blocks(const DenseMaskGrid& grid);
+
 // mark_ray_cells() into a dense grid.
 std::size_t mark_ray_cells_dense(const double start[3], const double* ends, std::size_t count,
                                  const DenseMaskGrid& grid, SimdLevel level);

@@ -8,9 +8,7 @@
 // the centre of every distinct end voxel per frame, as the integrator casts them.
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -64,8 +62,10 @@ struct Masks {
   }
 };
 
-// Arg: -1 for the scalar reference, else the SimdLevel.
-void BM_RayMarking(benchmark::State& state) {
+// Runs mark_frame(frame, reference, level) over the frames, which returns
+// the cells visited. Arg: -1 for the scalar reference, else the SimdLevel.
+template <class MarkFrame>
+void run_ray_marking(benchmark::State& state, MarkFrame&& mark_frame) {
   const bool reference = state.range(0) < 0;
   const auto level = static_cast<sarmap::kernels::SimdLevel>(reference ? 0 : state.range(0));
   if (!reference && !sarmap::kernels::simd_level_supported(level)) {
@@ -73,58 +73,38 @@ void BM_RayMarking(benchmark::State& state) {
     return;
   }
   const auto& frames = frame_rays();
-  Masks masks;
   std::size_t visits = 0;
   for (auto _ : state) {
     visits = 0;
-    for (const FrameRays& f : frames) {
-      masks.blocks.clear();
-      masks.words.clear();
-      const sarmap::kernels::BlockMaskSink sink{&Masks::block_index, &masks, &masks.base};
-      visits += reference ? sarmap::kernels::mark_ray_cells_reference(f.origin.data(), f.ends.data(), f.ends.size() / 3, sink)
-                          : sarmap::kernels::mark_ray_cells(f.origin.data(), f.ends.data(), f.ends.size() / 3, sink, level);
-    }
+    for (const FrameRays& f : frames) visits += mark_frame(f, reference, level);
   }
   state.counters["voxel_visits_per_s"] =
       benchmark::Counter(static_cast<double>(visits), benchmark::Counter::kIsIterationInvariantRate);
   state.SetLabel(reference ? "reference" : std::string(sarmap::kernels::to_string(level)));
 }
 
-// Arg: -1 for the scalar reference, else the SimdLevel.
+void BM_RayMarking(benchmark::State& state) {
+  Masks masks;
+  run_ray_marking(state, [&](const FrameRays& f, bool reference, sarmap::kernels::SimdLevel level) {
+    masks.blocks.clear();
+    masks.words.clear();
+    const sarmap::kernels::BlockMaskSink sink{&Masks::block_index, &masks, &masks.base};
+    const std::size_t count = f.ends.size() / 3;
+    return reference ? sarmap::kernels::mark_ray_cells_reference(f.origin.data(), f.ends.data(), count, sink)
+                     : sarmap::kernels::mark_ray_cells(f.origin.data(), f.ends.data(), count, sink, level);
+  });
+}
+
 void BM_RayMarkingDense(benchmark::State& state) {
-  const bool reference = state.range(0) < 0;
-  const auto level = static_cast<sarmap::kernels::SimdLevel>(reference ? 0 : state.range(0));
-  if (!reference && !sarmap::kernels::simd_level_supported(level)) {
-    state.SkipWithError("not supported by this CPU");
-    return;
-  }
-  const auto& frames = frame_rays();
   std::vector<std::uint64_t> words;
-  std::size_t visits = 0;
-  for (auto _ : state) {
-    visits = 0;
-    for (const FrameRays& f : frames) {
-      // The box of the origin's and the ends' blocks.
-      sarmap::kernels::DenseMaskGrid grid{};
-      std::size_t blocks = 1;
-      for (int i = 0; i < 3; ++i) {
-        double lo = f.origin[i], hi = f.origin[i];
-        for (std::size_t r = i; r < f.ends.size(); r += 3) lo = std::min(lo, f.ends[r]), hi = std::max(hi, f.ends[r]);
-        grid.first_block[i] = static_cast<std::int32_t>(std::floor(lo)) >> sarmap::kernels::kMarkBlockShift;
-        grid.blocks[i] =
-            (static_cast<std::int32_t>(std::floor(hi)) >> sarmap::kernels::kMarkBlockShift) - grid.first_block[i] + 1;
-        blocks *= static_cast<std::size_t>(grid.blocks[i]);
-      }
-      words.assign(blocks * sarmap::kernels::kMarkBlockWords, 0);
-      grid.words = words.data();
-      const std::size_t count = f.ends.size() / 3;
-      visits += reference ? sarmap::kernels::mark_ray_cells_dense_reference(f.origin.data(), f.ends.data(), count, grid)
-                          : sarmap::kernels::mark_ray_cells_dense(f.origin.data(), f.ends.data(), count, grid, level);
-    }
-  }
-  state.counters["voxel_visits_per_s"] =
-      benchmark::Counter(static_cast<double>(visits), benchmark::Counter::kIsIterationInvariantRate);
-  state.SetLabel(reference ? "reference" : std::string(sarmap::kernels::to_string(level)));
+  run_ray_marking(state, [&](const FrameRays& f, bool reference, sarmap::kernels::SimdLevel level) {
+    const std::size_t count = f.ends.size() / 3;
+    sarmap::kernels::DenseMaskGrid grid = sarmap::kernels::dense_grid_covering(f.origin.data(), f.ends.data(), count);
+    words.assign(sarmap::kernels::dense_grid_blocks(grid) * sarmap::kernels::kMarkBlockWords, 0);
+    grid.words = words.data();
+    return reference ? sarmap::kernels::mark_ray_cells_dense_reference(f.origin.data(), f.ends.data(), count, grid)
+                     : sarmap::kernels::mark_ray_cells_dense(f.origin.data(), f.ends.data(), count, grid, level);
+  });
 }
 BENCHMARK(BM_RayMarkingDense)->ArgName("level")->Arg(-1)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 

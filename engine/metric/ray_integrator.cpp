@@ -97,35 +97,17 @@ constexpr std::size_t kChunkPoints = 16384;
 // The marking kernel addresses the grid's words with 32-bit indices.
 constexpr std::size_t kDenseGridMaxBlocks = (std::size_t{1} << 31) / kernels::kMarkBlockWords;
 
-// The scan's box of blocks (the origin's and every ray end's, so every
-// cell a walk visits) as a dense mask grid without words, or nothing when it
-// has more than max_blocks blocks.
+// The scan's dense mask grid (without words), or nothing when it has more
+// than max_blocks blocks.
 std::optional<kernels::DenseMaskGrid> scan_block_box(const double start[3], const std::vector<RayEnd>& ends,
                                                      std::size_t max_blocks) {
   max_blocks = std::min(max_blocks, kDenseGridMaxBlocks - 1);
   if (max_blocks == 0 || ends.empty()) return std::nullopt;
-  double lo[3] = {start[0], start[1], start[2]}, hi[3] = {start[0], start[1], start[2]};
-  for (const RayEnd& e : ends) {
-    lo[0] = std::min(lo[0], e.x), hi[0] = std::max(hi[0], e.x);
-    lo[1] = std::min(lo[1], e.y), hi[1] = std::max(hi[1], e.y);
-    lo[2] = std::min(lo[2], e.z), hi[2] = std::max(hi[2], e.z);
-  }
-  kernels::DenseMaskGrid grid{};
-  std::size_t blocks = 1;
-  for (int i = 0; i < 3; ++i) {
-    // Cells are floor(coordinate) as in dda_setup; coordinates are within the
-    // map limits, so these fit 32 bits.
-    grid.first_block[i] = static_cast<std::int32_t>(std::floor(lo[i])) >> kBlockShift;
-    grid.blocks[i] = (static_cast<std::int32_t>(std::floor(hi[i])) >> kBlockShift) - grid.first_block[i] + 1;
-    blocks *= static_cast<std::size_t>(grid.blocks[i]);
-    if (blocks > max_blocks) return std::nullopt;
-  }
+  // Ray ends are within the map limits (+-10 km, at 1 cm at most 250,001
+  // blocks per axis), so the product of the extents fits a size_t.
+  const kernels::DenseMaskGrid grid = kernels::dense_grid_covering(start, &ends.front().x, ends.size());
+  if (kernels::dense_grid_blocks(grid) > max_blocks) return std::nullopt;
   return grid;
-}
-
-std::size_t dense_words(const kernels::DenseMaskGrid& grid) {
-  return kernels::kMarkBlockWords * static_cast<std::size_t>(grid.blocks[0]) * static_cast<std::size_t>(grid.blocks[1]) *
-         static_cast<std::size_t>(grid.blocks[2]);
 }
 
 }  // namespace
@@ -168,10 +150,6 @@ RayIntegrator::RayIntegrator(const IntegratorSettings& settings)
 RayIntegrator::~RayIntegrator() = default;
 RayIntegrator::RayIntegrator(RayIntegrator&&) noexcept = default;
 RayIntegrator& RayIntegrator::operator=(RayIntegrator&&) noexcept = default;
-
-namespace {
-
-}  // namespace
 
 IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& points,
                                           const Eigen::Vector3d& origin) {
@@ -274,7 +252,7 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
       scan_block_box(start, s.ray_ends, settings_.dense_walk_max_blocks);
   stats.dense_walks = box ? 1 : 0;
   if (box) {
-    const std::size_t words = dense_words(*box);
+    const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(*box);
     // Ranges of at least 1024 rays: the SIMD lanes drain at the end of every
     // call, so short calls leave lanes idle (64 measured 4-8 % slower at 1 thread).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 1024),

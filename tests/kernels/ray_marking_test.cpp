@@ -8,7 +8,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -74,19 +73,16 @@ std::set<Cell> walked_cells(const double start[3], const std::vector<double>& en
 // A dense grid over the blocks of start and every end, with one block of
 // margin on each side so a stray mark outside the walk's box would show.
 struct DenseGrid {
-  DenseMaskGrid grid{};
+  DenseMaskGrid grid;
   std::vector<std::uint64_t> words;
 
-  DenseGrid(const std::array<double, 3>& start, const std::vector<double>& ends) {
-    std::size_t blocks = 1;
+  DenseGrid(const std::array<double, 3>& start, const std::vector<double>& ends)
+      : grid(dense_grid_covering(start.data(), ends.data(), ends.size() / 3)) {
     for (int i = 0; i < 3; ++i) {
-      double lo = start[i], hi = start[i];
-      for (std::size_t r = 0; r < ends.size() / 3; ++r) lo = std::min(lo, ends[3 * r + i]), hi = std::max(hi, ends[3 * r + i]);
-      grid.first_block[i] = (static_cast<std::int32_t>(std::floor(lo)) >> kMarkBlockShift) - 1;
-      grid.blocks[i] = (static_cast<std::int32_t>(std::floor(hi)) >> kMarkBlockShift) - grid.first_block[i] + 2;
-      blocks *= static_cast<std::size_t>(grid.blocks[i]);
+      grid.first_block[i] -= 1;
+      grid.blocks[i] += 2;
     }
-    words.assign(blocks * kMarkBlockWords, 0);
+    words.assign(dense_grid_blocks(grid) * kMarkBlockWords, 0);
     grid.words = words.data();
   }
 
