@@ -47,14 +47,20 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
   observations_.clear();
   VoxelBox box;
   for (const LocalEndGroups& stretch : stretches) box.add(stretch.box());
-  // Adds a stretch's group to the global group at index slot, opening it
-  // when slot is the next index.
-  const auto fold = [&](std::uint32_t slot, const VoxelKey& key, const ClassObservation& obs) {
-    if (slot == keys_.size()) {
-      keys_.push_back(key);
-      observations_.push_back(obs);
-    } else {
-      observations_[slot].add(obs);
+  // Folds every stretch's groups, in order, into the global group whose
+  // index global_index(key) gives (the next index opens a new group).
+  const auto fold_all = [&](auto&& global_index) {
+    for (const LocalEndGroups& stretch : stretches) {
+      for (std::size_t g = 0; g < stretch.keys().size(); ++g) {
+        const VoxelKey& key = stretch.keys()[g];
+        const std::uint32_t u = global_index(key);
+        if (u == keys_.size()) {
+          keys_.push_back(key);
+          observations_.push_back(stretch.observations()[g]);
+        } else {
+          observations_[u].add(stretch.observations()[g]);
+        }
+      }
     }
   };
 
@@ -68,21 +74,15 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
       return static_cast<std::size_t>(k.x - box.lo.x) + ex * static_cast<std::size_t>(k.y - box.lo.y) +
              exy * static_cast<std::size_t>(k.z - box.lo.z);
     };
-    for (const LocalEndGroups& stretch : stretches) {
-      for (std::size_t g = 0; g < stretch.keys().size(); ++g) {
-        std::uint32_t& slot = dense_[cell_of(stretch.keys()[g])];
-        if (slot == 0) slot = static_cast<std::uint32_t>(keys_.size()) + 1;
-        fold(slot - 1, stretch.keys()[g], stretch.observations()[g]);
-      }
-    }
+    fold_all([&](const VoxelKey& key) {
+      std::uint32_t& slot = dense_[cell_of(key)];
+      if (slot == 0) slot = static_cast<std::uint32_t>(keys_.size()) + 1;
+      return slot - 1;
+    });
     for (const VoxelKey& key : keys_) dense_[cell_of(key)] = 0;
   } else {
     hashed_.clear();
-    for (const LocalEndGroups& stretch : stretches) {
-      for (std::size_t g = 0; g < stretch.keys().size(); ++g) {
-        fold(hashed_.find_or_insert(pack(stretch.keys()[g])), stretch.keys()[g], stretch.observations()[g]);
-      }
-    }
+    fold_all([&](const VoxelKey& key) { return hashed_.find_or_insert(pack(key)); });
   }
 }
 
