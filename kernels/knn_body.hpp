@@ -80,13 +80,20 @@ inline void insert_sorted(float* d, float* ids, std::size_t chunks, float x, flo
   }
 }
 
-// Squared distance between two boxes (lower and upper corners of dim each): a
-// lower bound of every squared distance between their points, up to float
-// rounding (relative, below dim * 2^-24; the caller allows for it).
+// Whether the squared distance between two boxes (lower and upper corners of
+// dim each), times `shrink`, exceeds `limit`. The squared distance is a lower
+// bound of every squared distance between their points, up to float
+// rounding (relative, below dim * 2^-24; the caller's shrink allows for it).
+// It is summed a vector of dimensions at a time and the answer is given as
+// soon as the partial sum exceeds the limit: the terms are never negative, so
+// a partial sum is a lower bound too. Most panels a tile tests are far away
+// and are rejected after the first 16 or 32 of 64 dimensions.
 template <class Arch>
-inline float box_gap(const float* lo_a, const float* hi_a, const float* lo_b, const float* hi_b, std::size_t dim) {
+inline bool box_gap_exceeds(const float* lo_a, const float* hi_a, const float* lo_b, const float* hi_b,
+                            std::size_t dim, double shrink, double limit) {
   using B = Batch<Arch>;
   constexpr std::size_t L = B::size;
+  constexpr std::size_t kCheckEvery = L >= 16 ? 2 * L : 4 * L;  // dimensions between early checks
   const B zero(0.0f);
   B sum(0.0f);
   std::size_t c = 0;
@@ -95,13 +102,14 @@ inline float box_gap(const float* lo_a, const float* hi_a, const float* lo_b, co
                                         B::load_unaligned(lo_a + c) - B::load_unaligned(hi_b + c)),
                              zero);
     sum = fmadd<Arch>(gap, gap, sum);
+    if ((c + L) % kCheckEvery == 0 && c + L < dim && shrink * xsimd::hadd(sum) > limit) return true;
   }
   float total = xsimd::hadd(sum);
   for (; c < dim; ++c) {
     const float gap = std::max({lo_b[c] - hi_a[c], lo_a[c] - hi_b[c], 0.0f});
     total += gap * gap;
   }
-  return total;
+  return shrink * total > limit;
 }
 
 // exact_squared_distance() with its eight partial sums in vector lanes: the
@@ -230,7 +238,7 @@ void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double 
     const double reach = static_cast<double>(q.panel_max_radius[p]) + row_radius;
     const double allowance = slack * reach * reach;
     const float* box = q.panel_boxes + p * 2 * dim;
-    if (gap_shrink * box_gap<Arch>(self_centred, self_centred, box, box + dim, dim) > bound + allowance) continue;
+    if (box_gap_exceeds<Arch>(self_centred, self_centred, box, box + dim, dim, gap_shrink, bound + allowance)) continue;
     B acc[1][2] = {{B::load_aligned(q.norms + p * NR), B::load_aligned(q.norms + p * NR + L)}};
     accumulate<Arch, 1>(a_scaled_row, dim, q.panels + p * NR * dim, dim, acc);
     const B ceiling(std::nextafter(static_cast<float>(bound - row_norm + allowance), kInf));
@@ -244,6 +252,33 @@ void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double 
     }
   }
   write_exact_nearest<Arch>(q, self_id, near_count, [&near](std::size_t j) { return near[j]; }, out);
+}
+
+// tile[r][j] = |b_j|^2 - 2 a_r.b_j for the R rows of a_scaled (already
+// -2a) against one packed panel. Not inlined, on purpose: inside
+// knn_rows_impl the selection code's constants stay live across the
+// accumulation, and with AVX2's 16 registers the compiler then kept three of
+// the twelve accumulators on the stack, which made every step of the 64-d
+// loop wait on a store (a fifth of the 64-d kernel's time, by perf).
+template <class Arch, int R>
+__attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t dim, const float* panel,
+                                           const float* norms, float (&tile)[R][2 * Batch<Arch>::size]) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  B acc[R][2];
+  const B n0 = B::load_aligned(norms), n1 = B::load_aligned(norms + L);
+  for (int r = 0; r < R; ++r) {
+    acc[r][0] = n0;
+    acc[r][1] = n1;
+  }
+  accumulate<Arch, R>(a_scaled, dim, panel, dim, acc);
+  // Stored with constant indices: the caller's selection loop indexes rows
+  // at run time.
+#pragma GCC unroll 16
+  for (int r = 0; r < R; ++r) {
+    acc[r][0].store_aligned(tile[r]);
+    acc[r][1].store_aligned(tile[r] + L);
+  }
 }
 
 template <class Arch>
@@ -323,36 +358,14 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       std::ptrdiff_t up = static_cast<std::ptrdiff_t>((row + R / 2) / NR), down = up - 1;
       if (up >= static_cast<std::ptrdiff_t>(panel_count)) up = static_cast<std::ptrdiff_t>(panel_count) - 1, down = up - 1;
       bool take_up = true;
-      for (std::size_t visit = 0; visit < panel_count; ++visit, take_up = !take_up) {
+      const auto next_panel = [&]() {
         const std::size_t p = static_cast<std::size_t>(
             up < static_cast<std::ptrdiff_t>(panel_count) && (take_up || down < 0) ? up++ : down--);
-        // Skip the panel when even its nearest possible point lies beyond
-        // every row's k-th candidate (true squared distance = ranked value
-        // + |a|^2). Until a row's list is full its threshold is +inf.
-        double limit = 0.0;
-        for (int r = 0; r < R; ++r) limit = std::max(limit, static_cast<double>(threshold[r]) + row_norm[r]);
-        if (limit < kInf) {
-          const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
-          limit += slack * reach * reach;
-          const float* box = q.panel_boxes + p * 2 * dim;
-          if (gap_shrink * box_gap<Arch>(rows_lo, rows_hi, box, box + dim, dim) > limit) continue;
-        }
-        B acc[R][2];
-        const B n0 = B::load_aligned(q.norms + p * NR), n1 = B::load_aligned(q.norms + p * NR + L);
-        for (int r = 0; r < R; ++r) {
-          acc[r][0] = n0;
-          acc[r][1] = n1;
-        }
-        accumulate<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, dim, acc);
-        // Spill the tile with constant indices first: indexing acc with the
-        // run-time row of the selection loop would keep it in memory during
-        // the accumulation too.
-        alignas(64) float tile[R][NR];
-#pragma GCC unroll 16
-        for (int r = 0; r < R; ++r) {
-          acc[r][0].store_aligned(tile[r]);
-          acc[r][1].store_aligned(tile[r] + L);
-        }
+        take_up = !take_up;
+        return p;
+      };
+      // Inserts the lanes of one ranked tile that beat each row's threshold.
+      const auto select = [&](std::size_t p, const float (&tile)[R][NR]) {
         for (int r = 0; r < R; ++r) {
           const B t(threshold[r]);
           const float* tmp = tile[r];
@@ -377,6 +390,23 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
             }
           }
         }
+      };
+      for (std::size_t visit = 0; visit < panel_count; ++visit) {
+        const std::size_t p = next_panel();
+        // Skip the panel when even its nearest possible point lies beyond
+        // every row's k-th candidate (true squared distance = ranked value
+        // + |a|^2). Until a row's list is full its threshold is +inf.
+        double limit = 0.0;
+        for (int r = 0; r < R; ++r) limit = std::max(limit, static_cast<double>(threshold[r]) + row_norm[r]);
+        if (limit < kInf) {
+          const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
+          limit += slack * reach * reach;
+          const float* box = q.panel_boxes + p * 2 * dim;
+          if (box_gap_exceeds<Arch>(rows_lo, rows_hi, box, box + dim, dim, gap_shrink, limit)) continue;
+        }
+        alignas(64) float tile[R][NR];
+        ranked_tile<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, q.norms + p * NR, tile);
+        select(p, tile);
       }
       for (int r = 0; r < R; ++r) {
         for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = static_cast<std::uint32_t>(list_i[r][L + c]);
