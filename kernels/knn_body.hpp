@@ -26,59 +26,12 @@
 
 #include "kernels/exact_distance.hpp"
 #include "kernels/knn_args.hpp"
+#include "kernels/knn_candidate_list.hpp"
 #include "kernels/knn_limits.hpp"
 #include "kernels/microkernel.hpp"
 
 namespace sarmap::kernels {
 namespace {
-
-// Inserts (x, id) into the list d (distances) / ids of `chunks` vectors,
-// ascending by distance and, among equal distances, by index (padded with
-// +inf; d[-1] is a -inf sentinel), shifting the entries after it up a slot;
-// the last falls off. Branch-free, a vector at a time, from the top down so
-// each vector reads its unshifted predecessor (d[-L..-1] is a whole vector in
-// front of the list). Ordering equal distances by
-// index, not by arrival, keeps the candidates independent of the visiting
-// order: of many equal points (a block padded by repeats) the smallest
-// indices stay. Indices are kept as float values (exact below 2^24).
-// [below's last lane, cur's lanes but the last]: each lane's predecessor in
-// the list. A lane shift in registers, because an unaligned load across the
-// two vectors the previous insertion just stored stalls on store forwarding.
-template <class Arch>
-inline Batch<Arch> shift_in(const Batch<Arch>& cur, const Batch<Arch>& below) {
-#if defined(__AVX512F__)
-  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
-    return _mm512_castsi512_ps(_mm512_alignr_epi32(_mm512_castps_si512(cur), _mm512_castps_si512(below), 15));
-  } else
-#endif
-#if defined(__AVX2__)
-  if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
-    const __m256i rotate_up = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
-    return _mm256_blend_ps(_mm256_permutevar8x32_ps(cur, rotate_up), _mm256_permutevar8x32_ps(below, rotate_up), 1);
-  } else
-#endif
-  {
-    static_assert(std::is_base_of_v<xsimd::sse4_2, Arch>, "shift_in: no lane shift for this instruction set");
-    return _mm_castsi128_ps(_mm_alignr_epi8(_mm_castps_si128(cur), _mm_castps_si128(below), 12));
-  }
-}
-
-template <class Arch>
-inline void insert_sorted(float* d, float* ids, std::size_t chunks, float x, float id) {
-  using B = Batch<Arch>;
-  constexpr std::size_t L = B::size;
-  const B xv(x), iv(id);
-  for (std::size_t c = chunks; c-- > 0;) {
-    float* dc = d + c * L;
-    float* ic = ids + c * L;
-    const B cur = B::load_aligned(dc), prev = shift_in<Arch>(cur, B::load_aligned(dc - L));
-    const B icur = B::load_aligned(ic), iprev = shift_in<Arch>(icur, B::load_aligned(ic - L));
-    const auto shift = (prev > xv) || ((prev == xv) && (iprev > iv));
-    const auto place = ((cur > xv) || ((cur == xv) && (icur > iv))) && !shift;
-    xsimd::select(shift, prev, xsimd::select(place, xv, cur)).store_aligned(dc);
-    xsimd::select(shift, iprev, xsimd::select(place, iv, icur)).store_aligned(ic);
-  }
-}
 
 // Whether the squared distance between two boxes (lower and upper corners of
 // dim each), times `shrink`, exceeds `limit`. The squared distance is a lower
@@ -313,16 +266,17 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   const double slack = ranking_slack(dim), gap_shrink = box_gap_shrink(dim);
   constexpr std::size_t kSlots = kKnnMaxK + kKnnExtra;
   const std::size_t keep = k + kKnnExtra < q.count ? k + kKnnExtra : q.count;
-  // Per row: the sorted candidate list, a vector of sentinel in front and
-  // whole vectors of slots.
-  constexpr std::size_t kListLanes = (kSlots + L - 1) / L * L;
-  const std::size_t chunks = (keep + L - 1) / L;
-  alignas(64) float list_d[MR][L + kListLanes];
-  alignas(64) float list_i[MR][L + kListLanes];
+  // Per row: the sorted candidate list (knn_candidate_list.hpp), a vector of
+  // sentinel in front and whole vectors of slots.
+  constexpr std::size_t KL = keys_per_vector<Arch>();
+  constexpr std::size_t kListLanes = (kSlots + KL - 1) / KL * KL;
+  constexpr std::int64_t kNoKey = std::numeric_limits<std::int64_t>::max();
+  const std::size_t chunks = (keep + KL - 1) / KL;
+  alignas(64) std::int64_t list[MR][KL + kListLanes];
   std::uint32_t best_i[MR][kSlots];
   double exact[kSlots];
   std::size_t found[MR];
-  float threshold[MR];
+  float threshold[MR];  // the last entry's rank once the list is full, +inf before
 
   for (std::size_t row = begin; row < end; row += MR) {
     const int rows = static_cast<int>(min_size(MR, end - row));
@@ -347,12 +301,8 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         threshold[r] = kInf;
         // Only the sentinel and the `chunks` vectors in use: clearing all
         // kListLanes slots per row was 7 % of the 64-d kernel.
-        B(-kInf).store_aligned(list_d[r]);
-        B(0.0f).store_aligned(list_i[r]);
-        for (std::size_t c = 1; c <= chunks; ++c) {
-          B(kInf).store_aligned(list_d[r] + c * L);
-          B(0.0f).store_aligned(list_i[r] + c * L);
-        }
+        std::fill_n(list[r], KL, std::numeric_limits<std::int64_t>::min());
+        std::fill_n(list[r] + KL, chunks * KL, kNoKey);
       }
       // Panels outward from the tile's own: p0, p0 + 1, p0 - 1, p0 + 2, ...
       std::ptrdiff_t up = static_cast<std::ptrdiff_t>((row + R / 2) / NR), down = up - 1;
@@ -372,7 +322,8 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           // Visit only the lanes at or under the threshold; each insertion
           // may lower the threshold for the lanes after it. A distance equal
           // to the threshold gets in when its index is smaller than the last
-          // entry's (ties by index, whatever the visiting order).
+          // entry's (the keys order ties by index, whatever the visiting
+          // order). +inf and NaN never get in.
           std::uint64_t below = lane_mask<Arch>(B::load_aligned(tmp) <= t) |
                                 (std::uint64_t{lane_mask<Arch>(B::load_aligned(tmp + L) <= t)} << L);
           while (below != 0) {
@@ -381,12 +332,12 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
             const std::size_t col = p * NR + l;
             if (col >= count) continue;
             const float x = tmp[l];
-            const auto id = static_cast<float>(original(col));
-            const bool full = found[r] == keep;
-            if (x < threshold[r] || (full && x == threshold[r] && id < list_i[r][L + keep - 1])) {
-              insert_sorted<Arch>(list_d[r] + L, list_i[r] + L, chunks, x, id);
-              if (!full) ++found[r];
-              threshold[r] = list_d[r][L + keep - 1];  // +inf until the list is full
+            if (!(x < kInf)) continue;
+            const std::int64_t key = candidate_key(x, original(col));
+            if (key < list[r][KL + keep - 1]) {
+              insert_candidate<Arch>(list[r] + KL, chunks, key);
+              if (found[r] < keep) ++found[r];
+              if (found[r] == keep) threshold[r] = rank_of_key(list[r][KL + keep - 1]);
             }
           }
         }
@@ -409,7 +360,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         select(p, tile);
       }
       for (int r = 0; r < R; ++r) {
-        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = static_cast<std::uint32_t>(list_i[r][L + c]);
+        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = index_of_key(list[r][KL + c]);
         // Re-rank the candidates by exact distance, ties by index.
         const float* self = point(row_id[r]);
         std::size_t n = 0;
@@ -436,7 +387,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         if (found[r] == keep && keep < count) {
           const double reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);
           const double excluded_floor =
-              static_cast<double>(list_d[r][L + keep - 1]) + row_norm[r] - slack * reach * reach;
+              static_cast<double>(rank_of_key(list[r][KL + keep - 1])) + row_norm[r] - slack * reach * reach;
           // A k-th neighbour at distance 0 is a copy of the row's point, and
           // so are all points at distance 0; copies rank exactly alike, so
           // the list holds the lowest-indexed of them: proved too. (Padding a
