@@ -21,6 +21,14 @@ namespace {
 
 constexpr std::size_t kChunkRows = 48;  // a multiple of both tile heights (6, 12)
 
+bool uses_gaps_up_front(std::size_t panel_count, std::size_t dim) {
+  return dim <= kKnnGapsUpFrontMaxDim && panel_count <= kKnnGapsUpFrontMaxPanels;
+}
+
+// Floats per corner and dimension in panel_boxes_by_dim: whole vectors of
+// the widest instruction set.
+std::size_t panel_stride(std::size_t panel_count) { return (panel_count + 15) / 16 * 16; }
+
 // The bounding box and largest length of each packed panel's points
 // (padding lanes excluded), in the panels' own centred floats.
 void panel_bounds(std::size_t count, std::size_t dim, SimdLevel level, KnnWorkspace& ws) {
@@ -44,6 +52,19 @@ void panel_bounds(std::size_t count, std::size_t dim, SimdLevel level, KnnWorksp
     for (std::size_t l = 0; l < lanes; ++l) max_norm = std::max(max_norm, ws.norms[p * nr + l]);
     // Only feeds a rounding allowance; one ulp up keeps it an upper bound.
     ws.panel_max_radius[p] = std::nextafter(std::sqrt(max_norm), std::numeric_limits<float>::infinity());
+  }
+  if (uses_gaps_up_front(panel_count, dim)) {
+    const std::size_t stride = panel_stride(panel_count);
+    ws.panel_boxes_by_dim.resize(stride * 2 * dim);
+    // The lanes past the last panel are never read as results; zeros keep them finite.
+    std::fill_n(ws.panel_boxes_by_dim.data(), stride * 2 * dim, 0.0f);
+    for (std::size_t p = 0; p < panel_count; ++p) {
+      const float* box = ws.panel_boxes.data() + p * 2 * dim;
+      for (std::size_t c = 0; c < dim; ++c) {
+        ws.panel_boxes_by_dim[(2 * c) * stride + p] = box[c];
+        ws.panel_boxes_by_dim[(2 * c + 1) * stride + p] = box[dim + c];
+      }
+    }
   }
 }
 
@@ -90,7 +111,7 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
     pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
   }
   panel_bounds(count, dim, level, workspace);
-  const detail::KnnArgs args{points,
+  detail::KnnArgs args{points,
                              stride,
                              count,
                              dim,
@@ -104,6 +125,11 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
                                                workspace.panel_max_radius.data() + workspace.panel_max_radius.size()),
                              idx,
                              visit_order};
+  const std::size_t panel_count = workspace.panel_max_radius.size();
+  if (uses_gaps_up_front(panel_count, dim)) {
+    args.panel_boxes_by_dim = workspace.panel_boxes_by_dim.data();
+    args.panel_stride = panel_stride(panel_count);
+  }
   const detail::KnnRowsFn fn = rows_fn(level);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, (count + kChunkRows - 1) / kChunkRows, 1),

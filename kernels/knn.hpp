@@ -22,6 +22,10 @@ struct KnnWorkspace {
   AlignedBuffer<float> centre;
   AlignedBuffer<float> panel_boxes;     // per panel: lower then upper corner (dim each)
   AlignedBuffer<float> panel_max_radius;  // per panel: its largest length (rounded up)
+  // The same boxes dimension by dimension (all panels' lower corners in
+  // dimension 0, then their upper corners, then dimension 1, ...), for
+  // low-dimensional points only (knn_limits.hpp).
+  AlignedBuffer<float> panel_boxes_by_dim;
 };
 
 // idx[i * k + j] = j-th nearest of point i (count x k). points: count x dim

@@ -26,6 +26,11 @@ struct KnnArgs {
   // Caller's index of each position of the panels (points packed in a visit
   // order), or nullptr when the panels hold the points in the caller's order.
   const std::uint32_t* original = nullptr;
+  // panel_boxes dimension by dimension (KnnWorkspace::panel_boxes_by_dim),
+  // `panel_stride` floats per corner and dimension; nullptr when the kernel
+  // tests panels one at a time instead.
+  const float* panel_boxes_by_dim = nullptr;
+  std::size_t panel_stride = 0;
 };
 
 // Neighbours of rows [begin, end).

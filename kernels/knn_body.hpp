@@ -46,7 +46,7 @@ inline bool box_gap_exceeds(const float* lo_a, const float* hi_a, const float* l
                             std::size_t dim, double shrink, double limit) {
   using B = Batch<Arch>;
   constexpr std::size_t L = B::size;
-  constexpr std::size_t kCheckEvery = L >= 16 ? 2 * L : 4 * L;  // dimensions between early checks
+  constexpr std::size_t kCheckEvery = 2 * L;  // dimensions between early checks
   const B zero(0.0f);
   B sum(0.0f);
   std::size_t c = 0;
@@ -63,6 +63,28 @@ inline bool box_gap_exceeds(const float* lo_a, const float* hi_a, const float* l
     total += gap * gap;
   }
   return shrink * total > limit;
+}
+
+// gaps[p] = squared distance between the box [lo_a, hi_a] and panel p's
+// box, for every panel at once: panels across the vector lanes, boxes laid
+// out dimension by dimension (KnnArgs::panel_boxes_by_dim). The same lower
+// bound as box_gap_exceeds() (any summation order is within its allowance).
+template <class Arch>
+inline void box_gaps_to_all_panels(const float* lo_a, const float* hi_a, const float* boxes_by_dim,
+                                   std::size_t stride, std::size_t panel_count, std::size_t dim, float* gaps) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  const B zero(0.0f);
+  for (std::size_t p = 0; p < panel_count; p += L) {
+    B sum(0.0f);
+    for (std::size_t c = 0; c < dim; ++c) {
+      const B lo_b = B::load_unaligned(boxes_by_dim + 2 * c * stride + p);
+      const B hi_b = B::load_unaligned(boxes_by_dim + (2 * c + 1) * stride + p);
+      const B gap = xsimd::max(xsimd::max(lo_b - B(hi_a[c]), B(lo_a[c]) - hi_b), zero);
+      sum = fmadd<Arch>(gap, gap, sum);
+    }
+    sum.store_unaligned(gaps + p);
+  }
 }
 
 // exact_squared_distance() with its eight partial sums in vector lanes: the
@@ -342,22 +364,36 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
           }
         }
       };
+      // Low-dimensional points: the tile's distance to every panel's box
+      // at once, up front (knn_limits.hpp).
+      alignas(64) float panel_gap[kKnnGapsUpFrontMaxPanels + 16];
+      const bool gaps_up_front = q.panel_boxes_by_dim != nullptr;
+      if (gaps_up_front) {
+        box_gaps_to_all_panels<Arch>(rows_lo, rows_hi, q.panel_boxes_by_dim, q.panel_stride, panel_count, dim,
+                                     panel_gap);
+      }
+      // Skip a panel when even its nearest possible point lies beyond every
+      // row's k-th candidate (true squared distance = ranked value + |a|^2).
+      // Until a row's list is full its threshold is +inf. The largest such
+      // distance changes only when a panel was taken, so it is kept.
+      double rows_limit = kInf;
       for (std::size_t visit = 0; visit < panel_count; ++visit) {
         const std::size_t p = next_panel();
-        // Skip the panel when even its nearest possible point lies beyond
-        // every row's k-th candidate (true squared distance = ranked value
-        // + |a|^2). Until a row's list is full its threshold is +inf.
-        double limit = 0.0;
-        for (int r = 0; r < R; ++r) limit = std::max(limit, static_cast<double>(threshold[r]) + row_norm[r]);
-        if (limit < kInf) {
+        if (rows_limit < kInf) {
           const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
-          limit += slack * reach * reach;
-          const float* box = q.panel_boxes + p * 2 * dim;
-          if (box_gap_exceeds<Arch>(rows_lo, rows_hi, box, box + dim, dim, gap_shrink, limit)) continue;
+          const double limit = rows_limit + slack * reach * reach;
+          if (gaps_up_front) {
+            if (gap_shrink * static_cast<double>(panel_gap[p]) > limit) continue;
+          } else {
+            const float* box = q.panel_boxes + p * 2 * dim;
+            if (box_gap_exceeds<Arch>(rows_lo, rows_hi, box, box + dim, dim, gap_shrink, limit)) continue;
+          }
         }
         alignas(64) float tile[R][NR];
         ranked_tile<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, q.norms + p * NR, tile);
         select(p, tile);
+        rows_limit = 0.0;
+        for (int r = 0; r < R; ++r) rows_limit = std::max(rows_limit, static_cast<double>(threshold[r]) + row_norm[r]);
       }
       for (int r = 0; r < R; ++r) {
         for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = index_of_key(list[r][KL + c]);

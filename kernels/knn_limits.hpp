@@ -18,6 +18,13 @@ inline constexpr std::size_t kKnnMaxCount = std::size_t{1} << 24;
 // in the demo's blocks; 3.9 % with 4 extra, 0.007 % with 16).
 inline constexpr std::size_t kKnnExtra = 8;
 
+// Up to this many dimensions, a tile of rows computes its box's distance to
+// every panel at once, panels across the vector lanes (a few instructions per
+// panel), instead of one panel at a time as it visits them; and only when the
+// panels fit this many (a 4096-point block has 128 to 512).
+inline constexpr std::size_t kKnnGapsUpFrontMaxDim = 4;
+inline constexpr std::size_t kKnnGapsUpFrontMaxPanels = 1024;
+
 // A row redone exactly ranks the points that could tie with its k-th
 // neighbour; past this many (thousands of copies of one point) it ranks all.
 inline constexpr std::size_t kKnnTieCandidates = 1024;

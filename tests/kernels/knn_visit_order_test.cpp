@@ -2,8 +2,10 @@
 // feeds it (spatial_order.hpp): with any permutation as visit order the lists
 // are exactly the reference's, on inputs where the kernel skips most panels
 // (points in space, features that are smooth functions of position), on exact
-// ties (grid points, blocks padded by repeats, all-equal points) and for 1
-// and 2 threads; a visit order that is not a permutation is refused.
+// ties (grid points, blocks padded by repeats, all-equal points), on
+// low-dimensional clouds small and large enough to take both ways of testing
+// panels, and for 1 and 2 threads; a visit order that is not a permutation is
+// refused.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -17,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/exact_distance.hpp"
 #include "kernels/knn.hpp"
 #include "kernels/spatial_order.hpp"
 #include "tests/kernels/kernel_test_support.hpp"
@@ -98,6 +101,52 @@ TEST(KnnVisitOrder, AnyPermutationGivesTheReferenceLists) {
         std::vector<std::uint32_t> got(n * k);
         knn(c.points.data(), c.dim, n, c.dim, k, level, ws, got.data(), order.data());
         EXPECT_EQ(got, ref) << c.name << ", " << to_string(level);
+      }
+    }
+  }
+}
+
+// The k nearest of row i by the reference's arithmetic: exact distances to
+// every point, ties by index.
+std::vector<std::uint32_t> reference_row(const std::vector<float>& p, std::size_t dim, std::size_t i, std::size_t k) {
+  const std::size_t n = p.size() / dim;
+  std::vector<double> d(n);
+  for (std::size_t j = 0; j < n; ++j) d[j] = exact_squared_distance(p.data() + i * dim, p.data() + j * dim, dim);
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                    [&](std::uint32_t a, std::uint32_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
+  order.resize(k);
+  return order;
+}
+
+// Low-dimensional points test a tile against every panel at once when there
+// are at most kKnnGapsUpFrontMaxPanels panels, and one panel at a time
+// beyond: both ways give the reference's lists (checked on sampled rows; the
+// full reference is quadratic). 3-d and 2-d clouds of 40,000 points have more
+// panels than that at every instruction set, 4,000 fewer.
+TEST(KnnVisitOrder, LowDimensionalCloudsOfAnySizeGiveTheReferenceLists) {
+  const std::size_t k = 20;
+  for (std::size_t dim : {2u, 3u}) {
+    for (std::size_t n : {4000u, 40000u}) {
+      auto p = test::random_floats(n * dim, 40 + static_cast<unsigned>(dim));
+      // Some exact copies, so ties cross panels too.
+      for (std::size_t i = 0; i < n / 10; ++i) std::copy_n(p.data() + (i * 7 % n) * dim, dim, p.data() + (n - 1 - i) * dim);
+      std::vector<float> xyz(n * 3, 0.0f);
+      for (std::size_t i = 0; i < n; ++i) std::copy_n(p.data() + i * dim, dim, xyz.data() + i * 3);
+      std::vector<std::uint32_t> order(n);
+      AlignedBuffer<std::uint64_t> keys;
+      spatial_order(xyz.data(), 3, n, keys, order.data());
+      for (SimdLevel level : test::supported_levels()) {
+        KnnWorkspace ws;
+        std::vector<std::uint32_t> got(n * k);
+        knn(p.data(), dim, n, dim, k, level, ws, got.data(), order.data());
+        for (std::size_t i = 0; i < n; i += n / 97) {
+          const std::vector<std::uint32_t> row(got.begin() + static_cast<std::ptrdiff_t>(i * k),
+                                               got.begin() + static_cast<std::ptrdiff_t>((i + 1) * k));
+          ASSERT_EQ(row, reference_row(p, dim, i, k)) << dim << "-d, " << n << " points, row " << i << ", "
+                                                       << to_string(level);
+        }
       }
     }
   }
