@@ -36,23 +36,27 @@ void panel_bounds(std::size_t count, std::size_t dim, SimdLevel level, KnnWorksp
   const std::size_t panel_count = (count + nr - 1) / nr;
   ws.panel_boxes.resize(panel_count * 2 * dim);
   ws.panel_max_radius.resize(panel_count);
-  for (std::size_t p = 0; p < panel_count; ++p) {
-    const float* panel = ws.panels.data() + p * nr * dim;
-    const std::size_t lanes = std::min(nr, count - p * nr);
-    float* lo = ws.panel_boxes.data() + p * 2 * dim;
-    float* hi = lo + dim;
-    for (std::size_t c = 0; c < dim; ++c) {
-      lo[c] = hi[c] = panel[c * nr];
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, panel_count, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      const float* panel = ws.panels.data() + p * nr * dim;
+      const std::size_t lanes = std::min(nr, count - p * nr);
+      float* lo = ws.panel_boxes.data() + p * 2 * dim;
+      float* hi = lo + dim;
+      // Lane by lane, so the inner loop runs along the dimensions (a vector
+      // min and max) rather than reducing across a dimension's lanes.
+      for (std::size_t c = 0; c < dim; ++c) lo[c] = hi[c] = panel[c * nr];
       for (std::size_t l = 1; l < lanes; ++l) {
-        lo[c] = std::min(lo[c], panel[c * nr + l]);
-        hi[c] = std::max(hi[c], panel[c * nr + l]);
+        for (std::size_t c = 0; c < dim; ++c) {
+          lo[c] = std::min(lo[c], panel[c * nr + l]);
+          hi[c] = std::max(hi[c], panel[c * nr + l]);
+        }
       }
+      float max_norm = 0.0f;
+      for (std::size_t l = 0; l < lanes; ++l) max_norm = std::max(max_norm, ws.norms[p * nr + l]);
+      // Only feeds a rounding allowance; one ulp up keeps it an upper bound.
+      ws.panel_max_radius[p] = std::nextafter(std::sqrt(max_norm), std::numeric_limits<float>::infinity());
     }
-    float max_norm = 0.0f;
-    for (std::size_t l = 0; l < lanes; ++l) max_norm = std::max(max_norm, ws.norms[p * nr + l]);
-    // Only feeds a rounding allowance; one ulp up keeps it an upper bound.
-    ws.panel_max_radius[p] = std::nextafter(std::sqrt(max_norm), std::numeric_limits<float>::infinity());
-  }
+  });
   if (uses_gaps_up_front(panel_count, dim)) {
     const std::size_t stride = panel_stride(panel_count);
     ws.panel_boxes_by_dim.resize(stride * 2 * dim);
@@ -104,8 +108,12 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
                                     std::to_string(from) + " at position " + std::to_string(i) + ")");
       }
       workspace.visited[from] = 1;
-      std::copy_n(points + static_cast<std::size_t>(from) * stride, dim, gathered + i * dim);
     }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 512), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        std::copy_n(points + static_cast<std::size_t>(visit_order[i]) * stride, dim, gathered + i * dim);
+      }
+    });
     pack_points(gathered, dim, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
   } else {
     pack_points(points, stride, count, dim, level, workspace.panels, workspace.norms, workspace.centre);
