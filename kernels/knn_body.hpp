@@ -296,7 +296,8 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
   const std::size_t chunks = (keep + KL - 1) / KL;
   alignas(64) std::int64_t list[MR][KL + kListLanes];
   std::uint32_t best_i[MR][kSlots];
-  double exact[kSlots];
+  double exact[kSlots];   // exact squared distances, filled where the order needed them
+  float ranked[kSlots];    // the candidates' computed ranks
   std::size_t found[MR];
   float threshold[MR];  // the last entry's rank once the list is full, +inf before
 
@@ -396,21 +397,44 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         for (int r = 0; r < R; ++r) rows_limit = std::max(rows_limit, static_cast<double>(threshold[r]) + row_norm[r]);
       }
       for (int r = 0; r < R; ++r) {
-        for (std::size_t c = 0; c < found[r]; ++c) best_i[r][c] = index_of_key(list[r][KL + c]);
-        // Re-rank the candidates by exact distance, ties by index.
-        const float* self = point(row_id[r]);
-        std::size_t n = 0;
         for (std::size_t c = 0; c < found[r]; ++c) {
-          const std::uint32_t id = best_i[r][c];
-          const double d = exact_squared_distance_wide<Arch>(self, point(id), dim);
-          std::size_t pos = n++;
-          while (pos > 0 && (exact[pos - 1] > d || (exact[pos - 1] == d && best_i[r][pos - 1] > id))) {
-            exact[pos] = exact[pos - 1];
-            best_i[r][pos] = best_i[r][pos - 1];
-            --pos;
+          best_i[r][c] = index_of_key(list[r][KL + c]);
+          ranked[c] = rank_of_key(list[r][KL + c]);
+        }
+        // Order the candidates by exact distance, ties by index, as far as
+        // the k-th. A computed rank is within `allowance` of the exact
+        // distance less |a|^2, so two candidates whose ranks differ by more
+        // than twice that are already in exact order; only runs of
+        // candidates closer than that are ranked by exact distance (most
+        // runs are single candidates, and computing every candidate's exact
+        // distance was a tenth of the 64-d kernel). A non-finite allowance
+        // (non-finite input) makes one run of all.
+        const float* self = point(row_id[r]);
+        const double row_reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);
+        const double run_gap = 2.0 * slack * row_reach * row_reach * (1.0 + 0x1p-40);
+        for (std::size_t start = 0, stop = 0; start < found[r] && start < k; start = stop) {
+          stop = start + 1;
+          while (stop < found[r] && !(static_cast<double>(ranked[stop]) - static_cast<double>(ranked[stop - 1]) > run_gap)) {
+            ++stop;
           }
-          exact[pos] = d;
-          best_i[r][pos] = id;
+          if (stop - start == 1) {
+            // Alone in its run, it is in place; only the k-th's exact
+            // distance is needed (for the proof below).
+            if (start == k - 1) exact[start] = exact_squared_distance_wide<Arch>(self, point(best_i[r][start]), dim);
+            continue;
+          }
+          for (std::size_t c = start; c < stop; ++c) {
+            const std::uint32_t id = best_i[r][c];
+            const double d = exact_squared_distance_wide<Arch>(self, point(id), dim);
+            std::size_t pos = c;
+            while (pos > start && (exact[pos - 1] > d || (exact[pos - 1] == d && best_i[r][pos - 1] > id))) {
+              exact[pos] = exact[pos - 1];
+              best_i[r][pos] = best_i[r][pos - 1];
+              --pos;
+            }
+            exact[pos] = d;
+            best_i[r][pos] = id;
+          }
         }
         std::uint32_t* out = q.idx + static_cast<std::size_t>(row_id[r]) * k;
         // The candidates are proved to hold the k nearest when every point
