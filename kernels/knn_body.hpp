@@ -256,6 +256,21 @@ __attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t di
   }
 }
 
+// Calls f with std::integral_constant<std::size_t, chunks> for chunks in
+// 1 .. Max, so a candidate list's length is a compile-time constant.
+template <std::size_t Max, class F>
+inline void with_chunks(std::size_t chunks, F&& f) {
+  if constexpr (Max <= 1) {
+    f(std::integral_constant<std::size_t, 1>{});
+  } else {
+    if (chunks >= Max) {
+      f(std::integral_constant<std::size_t, Max>{});
+    } else {
+      with_chunks<Max - 1>(chunks, f);
+    }
+  }
+}
+
 template <class Arch>
 void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end) {
   using B = Batch<Arch>;
@@ -338,32 +353,62 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         return p;
       };
       // Inserts the lanes of one ranked tile that beat each row's threshold.
-      const auto select = [&](std::size_t p, const float (&tile)[R][NR]) {
+      // A distance equal to the threshold gets in when its index is smaller
+      // than the last entry's (the keys order ties by index, whatever the
+      // visiting order). +inf (padding columns) and NaN never get in.
+      const auto passing = [&](const float* tmp, float threshold_of_row) {
+        const B t(threshold_of_row), inf(kInf);
+        const B low = B::load_aligned(tmp), high = B::load_aligned(tmp + L);
+        return static_cast<std::uint64_t>(lane_mask<Arch>((low <= t) & (low < inf))) |
+               (std::uint64_t{lane_mask<Arch>((high <= t) & (high < inf))} << L);
+      };
+      // The row's count and threshold after its list changed.
+      const auto refresh = [&](int r) {
+        if (found[r] < keep) {
+          std::size_t n = found[r];
+          while (n < keep && list[r][KL + n] != kNoKey) ++n;
+          found[r] = n;
+        }
+        if (found[r] == keep) threshold[r] = rank_of_key(list[r][KL + keep - 1]);
+      };
+      const auto select_in_registers = [&](std::size_t p, const float (&tile)[R][NR], auto chunk_count) {
+        constexpr std::size_t Chunks = decltype(chunk_count)::value;
         for (int r = 0; r < R; ++r) {
-          const B t(threshold[r]);
           const float* tmp = tile[r];
-          // Visit only the lanes at or under the threshold; each insertion
-          // may lower the threshold for the lanes after it. A distance equal
-          // to the threshold gets in when its index is smaller than the last
-          // entry's (the keys order ties by index, whatever the visiting
-          // order). +inf and NaN never get in.
-          std::uint64_t below = lane_mask<Arch>(B::load_aligned(tmp) <= t) |
-                                (std::uint64_t{lane_mask<Arch>(B::load_aligned(tmp + L) <= t)} << L);
+          const std::uint64_t below = passing(tmp, threshold[r]);
+          if (below == 0) continue;
+          insert_candidates_in_registers<Arch, Chunks>(
+              list[r] + KL, below, [&](std::size_t l) { return candidate_key(tmp[l], original(p * NR + l)); });
+          refresh(r);
+        }
+      };
+      const auto select_in_memory = [&](std::size_t p, const float (&tile)[R][NR]) {
+        for (int r = 0; r < R; ++r) {
+          const float* tmp = tile[r];
+          // Each insertion may lower the threshold for the lanes after it,
+          // so the key is checked against the current last entry.
+          std::uint64_t below = passing(tmp, threshold[r]);
+          bool inserted = false;
           while (below != 0) {
             const std::size_t l = static_cast<std::size_t>(__builtin_ctzll(below));
             below &= below - 1;
-            const std::size_t col = p * NR + l;
-            if (col >= count) continue;
-            const float x = tmp[l];
-            if (!(x < kInf)) continue;
-            const std::int64_t key = candidate_key(x, original(col));
+            const std::int64_t key = candidate_key(tmp[l], original(p * NR + l));
             if (key < list[r][KL + keep - 1]) {
               insert_candidate<Arch>(list[r] + KL, chunks, key);
-              if (found[r] < keep) ++found[r];
-              if (found[r] == keep) threshold[r] = rank_of_key(list[r][KL + keep - 1]);
+              inserted = true;
             }
           }
+          if (inserted) refresh(r);
         }
+      };
+      const auto select = [&](std::size_t p, const float (&tile)[R][NR]) {
+        if constexpr (max_register_chunks<Arch>() > 0) {
+          if (chunks <= max_register_chunks<Arch>()) {
+            with_chunks<max_register_chunks<Arch>()>(chunks, [&](auto cc) { select_in_registers(p, tile, cc); });
+            return;
+          }
+        }
+        select_in_memory(p, tile);
       };
       // Low-dimensional points: the tile's distance to every panel's box
       // at once, up front (knn_limits.hpp).

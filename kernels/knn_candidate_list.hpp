@@ -100,5 +100,79 @@ inline void insert_candidate(std::int64_t* keys, std::size_t chunks, std::int64_
   }
 }
 
+// The largest list, in vectors, that insert_candidates_in_registers() keeps
+// in registers for Arch (0: none; insert_candidate() a key at a time then).
+template <class Arch>
+constexpr std::size_t max_register_chunks() {
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    return 9;  // k 64 + 8 extra; 9 of 32 zmm
+  } else if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
+    return 8;  // 8 of 16 ymm, leaving room for the temporaries
+  } else {
+    return 0;
+  }
+}
+
+// Inserts the keys key_of(l) for each set bit l of `lanes`, lowest first,
+// into the list keys[0 .. Chunks * keys_per_vector) (ascending; see
+// insert_candidate), holding the list in registers for the whole batch:
+// a key at a time through memory made each insertion wait for the previous
+// one's stores. keys[-KL .. -1] is not read: the vector below the first is
+// the smallest key. A key no smaller than the list's last entry changes
+// nothing that is read (it may only fill a slot past the caller's `keep`,
+// which the caller never reads), so the caller need not test it first.
+template <class Arch, std::size_t Chunks, class KeyOf>
+inline void insert_candidates_in_registers(std::int64_t* keys, std::uint64_t lanes, KeyOf key_of) {
+  constexpr std::size_t KL = keys_per_vector<Arch>();
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    __m512i v[Chunks];
+    for (std::size_t c = 0; c < Chunks; ++c) v[c] = _mm512_load_si512(keys + c * KL);
+    const __m512i smallest = _mm512_set1_epi64(std::numeric_limits<std::int64_t>::min());
+    while (lanes != 0) {
+      const auto l = static_cast<std::size_t>(__builtin_ctzll(lanes));
+      lanes &= lanes - 1;
+      const __m512i xv = _mm512_set1_epi64(key_of(l));
+#pragma GCC unroll 16
+      for (std::size_t i = 0; i < Chunks; ++i) {
+        const std::size_t c = Chunks - 1 - i;  // top down: each vector reads its predecessor unshifted
+        const __m512i prev = _mm512_alignr_epi64(v[c], c > 0 ? v[c - 1] : smallest, 7);
+        const __m512i placed = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(v[c], xv), v[c], xv);
+        v[c] = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(prev, xv), placed, prev);
+      }
+    }
+    for (std::size_t c = 0; c < Chunks; ++c) _mm512_store_si512(keys + c * KL, v[c]);
+    return;
+  } else
+#endif
+#if defined(__AVX2__)
+  if constexpr (std::is_base_of_v<xsimd::avx2, Arch>) {
+    __m256i v[Chunks];
+    for (std::size_t c = 0; c < Chunks; ++c) v[c] = _mm256_load_si256(reinterpret_cast<const __m256i*>(keys + c * KL));
+    const __m256i smallest = _mm256_set1_epi64x(std::numeric_limits<std::int64_t>::min());
+    while (lanes != 0) {
+      const auto l = static_cast<std::size_t>(__builtin_ctzll(lanes));
+      lanes &= lanes - 1;
+      const __m256i xv = _mm256_set1_epi64x(key_of(l));
+#pragma GCC unroll 16
+      for (std::size_t i = 0; i < Chunks; ++i) {
+        const std::size_t c = Chunks - 1 - i;  // top down: each vector reads its predecessor unshifted
+        const __m256i below = c > 0 ? v[c - 1] : smallest;
+        // [below[3], cur[0], cur[1], cur[2]]
+        const __m256i prev = _mm256_blend_epi32(_mm256_permute4x64_epi64(v[c], _MM_SHUFFLE(2, 1, 0, 3)),
+                                                _mm256_permute4x64_epi64(below, _MM_SHUFFLE(2, 1, 0, 3)), 0x03);
+        const __m256i placed = _mm256_blendv_epi8(v[c], xv, _mm256_cmpgt_epi64(v[c], xv));
+        v[c] = _mm256_blendv_epi8(placed, prev, _mm256_cmpgt_epi64(prev, xv));
+      }
+    }
+    for (std::size_t c = 0; c < Chunks; ++c) _mm256_store_si256(reinterpret_cast<__m256i*>(keys + c * KL), v[c]);
+    return;
+  } else
+#endif
+  {
+    static_assert(Chunks == 0, "insert_candidates_in_registers: no code for this instruction set");
+  }
+}
+
 }  // namespace
 }  // namespace sarmap::kernels
