@@ -1,6 +1,6 @@
-// A visiting order for the kNN kernel: points sorted along a Morton (Z-order)
-// curve of three of their coordinates, so that points close in the list are
-// close in space. DGCNN's blocks come in random order; in this order each
+// A visiting order for the kNN kernel: points sorted along a Hilbert curve of
+// three of their coordinates, so that points close in the list are close in
+// space. DGCNN's blocks come in random order; in this order each
 // point's near neighbours sit in the first panels the kernel visits.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 namespace sarmap::kernels {
 
-// order[0..count) = the point indices sorted by the Morton code of
+// order[0..count) = the point indices sorted by the Hilbert index of
 // (x, y, z) = points[i * stride + 0..2], quantised to 10 bits per axis over
 // the points' own bounding box; equal codes keep index order. Non-finite
 // coordinates count as the box's lower corner. `keys` is scratch (grow-only).

@@ -52,7 +52,7 @@ void BM_Knn(benchmark::State& state, SimdLevel level) {
   rate(state, 2.0 * kPoints * kPoints * dim);
 }
 
-// kNN in the order the network uses: the points sorted along a Morton curve
+// kNN in the order the network uses: the points sorted along a Hilbert curve
 // of their xyz first (spatial_order(), timed with it). In 3-D the points are
 // the xyz themselves; in 64-D they are features that vary smoothly with
 // position (tanh of a random linear map of xyz), as DGCNN's later layers'

@@ -10,8 +10,10 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -194,15 +196,34 @@ bool is_permutation_of_indices(const std::vector<std::uint32_t>& order) {
   return true;
 }
 
-TEST(SpatialOrder, FollowsTheMortonCurve) {
-  // The eight corners of a cube, listed backwards: Morton order is x fastest,
-  // then y, then z.
-  std::vector<float> corners;
-  for (int i = 7; i >= 0; --i) corners.insert(corners.end(), {float(i & 1), float((i >> 1) & 1), float(i >> 2)});
-  std::vector<std::uint32_t> order(8);
+TEST(SpatialOrder, FollowsAHilbertCurve) {
+  // A 4 x 4 x 4 grid, listed in a scrambled order, plus one point that
+  // stretches the box so that the grid's cells are 256 apart of the 1024 per
+  // axis (1023 / 3.99609375 = 256 exactly): along a Hilbert curve every step
+  // between grid points moves one cell along one axis (a Morton curve jumps).
+  const float stretch = 1023.0f / 256.0f;
+  std::vector<float> p;
+  std::vector<std::array<int, 3>> cell;
+  for (int n = 0; n < 64; ++n) {
+    const int m = (n * 37) % 64;  // 37 is coprime to 64: a permutation
+    cell.push_back({m & 3, (m >> 2) & 3, m >> 4});
+    p.insert(p.end(), {float(m & 3), float((m >> 2) & 3), float(m >> 4)});
+  }
+  p.insert(p.end(), {stretch, stretch, stretch});
+  std::vector<std::uint32_t> order(65);
   AlignedBuffer<std::uint64_t> keys;
-  spatial_order(corners.data(), 3, 8, keys, order.data());
-  EXPECT_EQ(order, (std::vector<std::uint32_t>{7, 6, 5, 4, 3, 2, 1, 0}));
+  spatial_order(p.data(), 3, 65, keys, order.data());
+  ASSERT_TRUE(is_permutation_of_indices(order));
+  std::vector<std::array<int, 3>> path;
+  for (std::uint32_t i : order) {
+    if (i < 64) path.push_back(cell[i]);
+  }
+  EXPECT_EQ(path.front(), (std::array<int, 3>{0, 0, 0}));
+  for (std::size_t s = 1; s < path.size(); ++s) {
+    int moved = 0;
+    for (int a = 0; a < 3; ++a) moved += std::abs(path[s][a] - path[s - 1][a]);
+    EXPECT_EQ(moved, 1) << "step " << s;
+  }
 }
 
 TEST(SpatialOrder, KeepsNeighboursTogether) {
