@@ -256,21 +256,6 @@ __attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t di
   }
 }
 
-// Calls f with std::integral_constant<std::size_t, chunks> for chunks in
-// 1 .. Max, so a candidate list's length is a compile-time constant.
-template <std::size_t Max, class F>
-inline void with_chunks(std::size_t chunks, F&& f) {
-  if constexpr (Max <= 1) {
-    f(std::integral_constant<std::size_t, 1>{});
-  } else {
-    if (chunks >= Max) {
-      f(std::integral_constant<std::size_t, Max>{});
-    } else {
-      with_chunks<Max - 1>(chunks, f);
-    }
-  }
-}
-
 template <class Arch>
 void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end) {
   using B = Batch<Arch>;
@@ -372,7 +357,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         if (found[r] == keep) threshold[r] = rank_of_key(list[r][KL + keep - 1]);
       };
       const auto select_in_registers = [&](std::size_t p, const float (&tile)[R][NR], auto chunk_count) {
-        constexpr std::size_t Chunks = decltype(chunk_count)::value;
+        constexpr auto Chunks = static_cast<std::size_t>(decltype(chunk_count)::value);
         for (int r = 0; r < R; ++r) {
           const float* tmp = tile[r];
           const std::uint64_t below = passing(tmp, threshold[r]);
@@ -404,7 +389,9 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       const auto select = [&](std::size_t p, const float (&tile)[R][NR]) {
         if constexpr (max_register_chunks<Arch>() > 0) {
           if (chunks <= max_register_chunks<Arch>()) {
-            with_chunks<max_register_chunks<Arch>()>(chunks, [&](auto cc) { select_in_registers(p, tile, cc); });
+            // with_rows() turns any small run-time count into a constant.
+            with_rows<static_cast<int>(max_register_chunks<Arch>())>(static_cast<int>(chunks),
+                                                                     [&](auto cc) { select_in_registers(p, tile, cc); });
             return;
           }
         }

@@ -48,6 +48,26 @@ constexpr std::size_t keys_per_vector() {
   return Arch::alignment() / sizeof(std::int64_t);
 }
 
+// One vector of an insertion of xv: `cur` with xv placed and the entries
+// above it shifted up a lane, `below` being the (unshifted) vector before it.
+// Shared by insert_candidate() and insert_candidates_in_registers().
+#if defined(__AVX512F__)
+inline __m512i inserted_vector(__m512i cur, __m512i below, __m512i xv) {
+  const __m512i prev = _mm512_alignr_epi64(cur, below, 7);
+  const __m512i placed = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(cur, xv), cur, xv);
+  return _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(prev, xv), placed, prev);
+}
+#endif
+#if defined(__AVX2__)
+inline __m256i inserted_vector(__m256i cur, __m256i below, __m256i xv) {
+  // [below[3], cur[0], cur[1], cur[2]]
+  const __m256i prev = _mm256_blend_epi32(_mm256_permute4x64_epi64(cur, _MM_SHUFFLE(2, 1, 0, 3)),
+                                          _mm256_permute4x64_epi64(below, _MM_SHUFFLE(2, 1, 0, 3)), 0x03);
+  const __m256i placed = _mm256_blendv_epi8(cur, xv, _mm256_cmpgt_epi64(cur, xv));
+  return _mm256_blendv_epi8(placed, prev, _mm256_cmpgt_epi64(prev, xv));
+}
+#endif
+
 // Inserts key x into the ascending list keys[0 .. chunks * keys_per_vector),
 // shifting the entries after it up a slot; the last falls off. keys[-KL .. -1]
 // must be a whole vector of the smallest key (a sentinel). Branch-free, a
@@ -63,10 +83,7 @@ inline void insert_candidate(std::int64_t* keys, std::size_t chunks, std::int64_
     const __m512i xv = _mm512_set1_epi64(x);
     for (std::size_t c = chunks; c-- > 0;) {
       std::int64_t* kc = keys + c * KL;
-      const __m512i cur = _mm512_load_si512(kc);
-      const __m512i prev = _mm512_alignr_epi64(cur, _mm512_load_si512(kc - KL), 7);
-      const __m512i placed = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(cur, xv), cur, xv);
-      _mm512_store_si512(kc, _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(prev, xv), placed, prev));
+      _mm512_store_si512(kc, inserted_vector(_mm512_load_si512(kc), _mm512_load_si512(kc - KL), xv));
     }
     return;
   } else
@@ -78,11 +95,7 @@ inline void insert_candidate(std::int64_t* keys, std::size_t chunks, std::int64_
       std::int64_t* kc = keys + c * KL;
       const __m256i cur = _mm256_load_si256(reinterpret_cast<const __m256i*>(kc));
       const __m256i below = _mm256_load_si256(reinterpret_cast<const __m256i*>(kc - KL));
-      // [below[3], cur[0], cur[1], cur[2]]
-      const __m256i prev = _mm256_blend_epi32(_mm256_permute4x64_epi64(cur, _MM_SHUFFLE(2, 1, 0, 3)),
-                                              _mm256_permute4x64_epi64(below, _MM_SHUFFLE(2, 1, 0, 3)), 0x03);
-      const __m256i placed = _mm256_blendv_epi8(cur, xv, _mm256_cmpgt_epi64(cur, xv));
-      _mm256_store_si256(reinterpret_cast<__m256i*>(kc), _mm256_blendv_epi8(placed, prev, _mm256_cmpgt_epi64(prev, xv)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(kc), inserted_vector(cur, below, xv));
     }
     return;
   } else
@@ -136,9 +149,7 @@ inline void insert_candidates_in_registers(std::int64_t* keys, std::uint64_t lan
 #pragma GCC unroll 16
       for (std::size_t i = 0; i < Chunks; ++i) {
         const std::size_t c = Chunks - 1 - i;  // top down: each vector reads its predecessor unshifted
-        const __m512i prev = _mm512_alignr_epi64(v[c], c > 0 ? v[c - 1] : smallest, 7);
-        const __m512i placed = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(v[c], xv), v[c], xv);
-        v[c] = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(prev, xv), placed, prev);
+        v[c] = inserted_vector(v[c], c > 0 ? v[c - 1] : smallest, xv);
       }
     }
     for (std::size_t c = 0; c < Chunks; ++c) _mm512_store_si512(keys + c * KL, v[c]);
@@ -157,12 +168,7 @@ inline void insert_candidates_in_registers(std::int64_t* keys, std::uint64_t lan
 #pragma GCC unroll 16
       for (std::size_t i = 0; i < Chunks; ++i) {
         const std::size_t c = Chunks - 1 - i;  // top down: each vector reads its predecessor unshifted
-        const __m256i below = c > 0 ? v[c - 1] : smallest;
-        // [below[3], cur[0], cur[1], cur[2]]
-        const __m256i prev = _mm256_blend_epi32(_mm256_permute4x64_epi64(v[c], _MM_SHUFFLE(2, 1, 0, 3)),
-                                                _mm256_permute4x64_epi64(below, _MM_SHUFFLE(2, 1, 0, 3)), 0x03);
-        const __m256i placed = _mm256_blendv_epi8(v[c], xv, _mm256_cmpgt_epi64(v[c], xv));
-        v[c] = _mm256_blendv_epi8(placed, prev, _mm256_cmpgt_epi64(prev, xv));
+        v[c] = inserted_vector(v[c], c > 0 ? v[c - 1] : smallest, xv);
       }
     }
     for (std::size_t c = 0; c < Chunks; ++c) _mm256_store_si256(reinterpret_cast<__m256i*>(keys + c * KL), v[c]);
