@@ -256,6 +256,45 @@ __attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t di
   }
 }
 
+// One row of a tile: its centred coordinates times -2 into a_scaled, the
+// tile's box [lo, hi] widened to hold it (set to it for the first row), and
+// its squared norm in double, returned. Across the vector lanes, since this
+// ran once per row and dimension in scalar code and was a tenth of the 64-d
+// kernel; the norm is summed in kNormLanes partial sums (any order is
+// within the allowance its users add for rounding).
+template <class Arch>
+inline double set_up_row(const float* src, const float* centre, std::size_t dim, bool first_row, float* a_scaled,
+                         float* lo, float* hi) {
+  using B = Batch<Arch>;
+  constexpr std::size_t L = B::size;
+  constexpr std::size_t kNormLanes = 8;
+  double partial[kNormLanes] = {};
+  std::size_t c = 0;
+  for (; c + L <= dim; c += L) {
+    const B centred = B::load_unaligned(src + c) - B::load_unaligned(centre + c);
+    (B(-2.0f) * centred).store_unaligned(a_scaled + c);
+    const B new_lo = first_row ? centred : xsimd::min(B::load_unaligned(lo + c), centred);
+    const B new_hi = first_row ? centred : xsimd::max(B::load_unaligned(hi + c), centred);
+    new_lo.store_unaligned(lo + c);
+    new_hi.store_unaligned(hi + c);
+    alignas(64) float lanes[L];
+    centred.store_aligned(lanes);
+    for (std::size_t l = 0; l < L; ++l) {
+      partial[l % kNormLanes] += static_cast<double>(lanes[l]) * static_cast<double>(lanes[l]);
+    }
+  }
+  for (; c < dim; ++c) {
+    const float centred = src[c] - centre[c];
+    a_scaled[c] = -2.0f * centred;
+    lo[c] = first_row ? centred : std::min(lo[c], centred);
+    hi[c] = first_row ? centred : std::max(hi[c], centred);
+    partial[c % kNormLanes] += static_cast<double>(centred) * centred;
+  }
+  double norm = 0.0;
+  for (double p : partial) norm += p;
+  return norm;
+}
+
 template <class Arch>
 void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end) {
   using B = Batch<Arch>;
@@ -309,15 +348,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       float max_row_radius = 0.0f;
       for (int r = 0; r < R; ++r) {
         row_id[r] = original(row + r);
-        const float* src = point(row_id[r]);
-        row_norm[r] = 0.0;
-        for (std::size_t c = 0; c < dim; ++c) {
-          const float centred = src[c] - q.centre[c];
-          a_scaled[r * dim + c] = -2.0f * centred;
-          rows_lo[c] = r == 0 ? centred : std::min(rows_lo[c], centred);
-          rows_hi[c] = r == 0 ? centred : std::max(rows_hi[c], centred);
-          row_norm[r] += static_cast<double>(centred) * centred;
-        }
+        row_norm[r] = set_up_row<Arch>(point(row_id[r]), q.centre, dim, r == 0, a_scaled + r * dim, rows_lo, rows_hi);
         max_row_norm = std::max(max_row_norm, row_norm[r]);
         max_row_radius = static_cast<float>(std::sqrt(max_row_norm));
         found[r] = 0;
