@@ -14,7 +14,8 @@ namespace sarmap::kernels {
 // order[0..count) = the point indices sorted by the Hilbert index of
 // (x, y, z) = points[i * stride + 0..2], quantised to 10 bits per axis over
 // the points' own bounding box; equal codes keep index order. Non-finite
-// coordinates count as the box's lower corner. `keys` is scratch (grow-only).
+// coordinates count as the box's lower corner. `keys` is scratch (grow-only,
+// 2 * count).
 void spatial_order(const float* points, std::size_t stride, std::size_t count, AlignedBuffer<std::uint64_t>& keys,
                    std::uint32_t* order);
 

@@ -13,7 +13,7 @@ namespace sarmap {
 struct DgcnnWorkspace {
   kernels::KnnWorkspace knn;
   kernels::AlignedBuffer<std::uint32_t> visit_order;  // n: the points in spatial order, for every kNN
-  kernels::AlignedBuffer<std::uint64_t> order_keys;   // n: scratch of spatial_order()
+  kernels::AlignedBuffer<std::uint64_t> order_keys;   // 2n: scratch of spatial_order()
   kernels::AlignedBuffer<std::uint32_t> neighbours;  // n x k
   kernels::AlignedBuffer<float> edge_terms;         // n x 2E: [a | b] of an EdgeConv
   kernels::AlignedBuffer<float> local;              // n x (E1 + E2 + E3): [x1 | x2 | x3]
