@@ -28,6 +28,7 @@
 #include "kernels/knn_args.hpp"
 #include "kernels/knn_candidate_list.hpp"
 #include "kernels/knn_limits.hpp"
+#include "kernels/knn_panel_sort.hpp"
 #include "kernels/microkernel.hpp"
 
 namespace sarmap::kernels {
@@ -428,6 +429,18 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         }
         select_in_memory(p, tile);
       };
+      // The first panel, whose lanes all enter the still empty lists.
+      const auto take_whole_panel = [&](std::size_t p, const float (&tile)[R][NR]) {
+        if constexpr (has_panel_sort<Arch>()) {
+          const std::size_t lanes = min_size(NR, count - p * NR);
+          for (int r = 0; r < R; ++r) {
+            panel_keys_sorted<Arch>(list[r] + KL, chunks, tile[r], passing(tile[r], kInf),
+                                    original_of != nullptr ? original_of + p * NR : nullptr,
+                                    static_cast<std::uint32_t>(p * NR), lanes);
+            refresh(r);
+          }
+        }
+      };
       // Low-dimensional points: the tile's distance to every panel's box
       // at once, up front (knn_limits.hpp).
       alignas(64) float panel_gap[kKnnGapsUpFrontMaxPanels + 16];
@@ -455,7 +468,11 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         }
         alignas(64) float tile[R][NR];
         ranked_tile<Arch, R>(a_scaled, dim, q.panels + p * NR * dim, q.norms + p * NR, tile);
-        select(p, tile);
+        if (has_panel_sort<Arch>() && visit == 0) {
+          take_whole_panel(p, tile);
+        } else {
+          select(p, tile);
+        }
         rows_limit = 0.0;
         for (int r = 0; r < R; ++r) rows_limit = std::max(rows_limit, static_cast<double>(threshold[r]) + row_norm[r]);
       }

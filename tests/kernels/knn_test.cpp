@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <string>
 #include <utility>
@@ -119,6 +120,29 @@ TEST(Knn, FewerPointsThanKListsAllThenRepeatsTheNearest) {
       std::set<std::uint32_t> distinct(got.begin() + i * k, got.begin() + (i + 1) * k);
       EXPECT_EQ(distinct.size(), n);
       EXPECT_EQ(got[i * k + k - 1], i);
+    }
+  }
+}
+
+// Non-finite points are rejected by the engine before the network, and the
+// kernel promises nothing about their neighbours (one of them makes the
+// centre it subtracts non-finite, and then every rank), but it must stay
+// safe: every index in range, whatever lanes the padding of a partial last
+// panel holds (200 points: the last panel is partly padding).
+TEST(Knn, NonFiniteInputGivesIndicesInRange) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (std::size_t dim : {3u, 64u}) {
+    const std::size_t n = 200, k = 12;
+    auto p = test::random_floats(n * dim, 41);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i % 20 != 3) p[i * dim + (i % dim)] = i % 3 == 0 ? nan : (i % 3 == 1 ? inf : -inf);
+    }
+    for (SimdLevel level : test::supported_levels()) {
+      SCOPED_TRACE(std::string(to_string(level)) + " dim " + std::to_string(dim));
+      KnnWorkspace ws;
+      std::vector<std::uint32_t> got(n * k);
+      knn(p.data(), dim, n, dim, k, level, ws, got.data());
+      for (std::uint32_t id : got) ASSERT_LT(id, n);
     }
   }
 }
