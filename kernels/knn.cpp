@@ -25,6 +25,10 @@ bool uses_gaps_up_front(std::size_t panel_count, std::size_t dim) {
   return dim <= kKnnGapsUpFrontMaxDim && panel_count <= kKnnGapsUpFrontMaxPanels;
 }
 
+bool uses_panel_groups(std::size_t panel_count, std::size_t dim) {
+  return !uses_gaps_up_front(panel_count, dim) && panel_count <= kKnnMaxGroupedPanels;
+}
+
 // Floats per corner and dimension in panel_boxes_by_dim: whole vectors of
 // the widest instruction set.
 std::size_t panel_stride(std::size_t panel_count) { return (panel_count + 15) / 16 * 16; }
@@ -57,6 +61,27 @@ void panel_bounds(std::size_t count, std::size_t dim, SimdLevel level, KnnWorksp
       ws.panel_max_radius[p] = std::nextafter(std::sqrt(max_norm), std::numeric_limits<float>::infinity());
     }
   });
+  if (uses_panel_groups(panel_count, dim)) {
+    const std::size_t group_count = (panel_count + kKnnPanelsPerGroup - 1) / kKnnPanelsPerGroup;
+    ws.group_boxes.resize(group_count * 2 * dim);
+    ws.group_max_radius.resize(group_count);
+    for (std::size_t g = 0; g < group_count; ++g) {
+      const std::size_t first = g * kKnnPanelsPerGroup, last = std::min(panel_count, first + kKnnPanelsPerGroup);
+      float* lo = ws.group_boxes.data() + g * 2 * dim;
+      float* hi = lo + dim;
+      std::copy_n(ws.panel_boxes.data() + first * 2 * dim, 2 * dim, lo);
+      float radius = ws.panel_max_radius[first];
+      for (std::size_t p = first + 1; p < last; ++p) {
+        const float* box = ws.panel_boxes.data() + p * 2 * dim;
+        for (std::size_t c = 0; c < dim; ++c) {
+          lo[c] = std::min(lo[c], box[c]);
+          hi[c] = std::max(hi[c], box[dim + c]);
+        }
+        radius = std::max(radius, ws.panel_max_radius[p]);
+      }
+      ws.group_max_radius[g] = radius;
+    }
+  }
   if (uses_gaps_up_front(panel_count, dim)) {
     const std::size_t stride = panel_stride(panel_count);
     ws.panel_boxes_by_dim.resize(stride * 2 * dim);
@@ -137,6 +162,10 @@ void knn(const float* points, std::size_t stride, std::size_t count, std::size_t
   if (uses_gaps_up_front(panel_count, dim)) {
     args.panel_boxes_by_dim = workspace.panel_boxes_by_dim.data();
     args.panel_stride = panel_stride(panel_count);
+  }
+  if (uses_panel_groups(panel_count, dim)) {
+    args.group_boxes = workspace.group_boxes.data();
+    args.group_max_radius = workspace.group_max_radius.data();
   }
   const detail::KnnRowsFn fn = rows_fn(level);
   tbb::parallel_for(

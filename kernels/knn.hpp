@@ -26,6 +26,10 @@ struct KnnWorkspace {
   // dimension 0, then their upper corners, then dimension 1, ...), for
   // low-dimensional points only (knn_limits.hpp).
   AlignedBuffer<float> panel_boxes_by_dim;
+  // Per group of kKnnPanelsPerGroup panels, their common box and largest
+  // length, laid out as panel_boxes and panel_max_radius (knn_limits.hpp).
+  AlignedBuffer<float> group_boxes;
+  AlignedBuffer<float> group_max_radius;
 };
 
 // idx[i * k + j] = j-th nearest of point i (count x k). points: count x dim

@@ -31,6 +31,11 @@ struct KnnArgs {
   // tests panels one at a time instead.
   const float* panel_boxes_by_dim = nullptr;
   std::size_t panel_stride = 0;
+  // Per group of kKnnPanelsPerGroup panels, their common box and largest
+  // length (as panel_boxes and panel_max_radius); nullptr when the kernel
+  // tests every panel on its own.
+  const float* group_boxes = nullptr;
+  const float* group_max_radius = nullptr;
 };
 
 // Neighbours of rows [begin, end).

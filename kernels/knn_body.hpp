@@ -454,9 +454,35 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       // Until a row's list is full its threshold is +inf. The largest such
       // distance changes only when a panel was taken, so it is kept.
       double rows_limit = kInf;
+      // Groups of panels (knn_limits.hpp): whether each was tested yet, and
+      // whether it was too far. The limit only falls, so a group found too
+      // far stays so; one that was near is left to its panels' own tests.
+      const bool grouped = q.group_boxes != nullptr;
+      constexpr std::size_t kGroupWords = kKnnMaxGroupedPanels / kKnnPanelsPerGroup / 64;
+      std::uint64_t group_tested[kGroupWords], group_far[kGroupWords];
+      if (grouped) {
+        const std::size_t words = (panel_count + kKnnPanelsPerGroup * 64 - 1) / (kKnnPanelsPerGroup * 64);
+        std::fill_n(group_tested, words, std::uint64_t{0});
+        std::fill_n(group_far, words, std::uint64_t{0});
+      }
       for (std::size_t visit = 0; visit < panel_count; ++visit) {
         const std::size_t p = next_panel();
         if (rows_limit < kInf) {
+          if (grouped) {
+            const std::size_t g = p / kKnnPanelsPerGroup;
+            const std::uint64_t bit = std::uint64_t{1} << (g % 64);
+            if ((group_far[g / 64] & bit) != 0) continue;
+            if ((group_tested[g / 64] & bit) == 0) {
+              group_tested[g / 64] |= bit;
+              const double reach = static_cast<double>(q.group_max_radius[g]) + max_row_radius;
+              const float* box = q.group_boxes + g * 2 * dim;
+              if (box_gap_exceeds<Arch>(rows_lo, rows_hi, box, box + dim, dim, gap_shrink,
+                                        rows_limit + slack * reach * reach)) {
+                group_far[g / 64] |= bit;
+                continue;
+              }
+            }
+          }
           const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
           const double limit = rows_limit + slack * reach * reach;
           if (gaps_up_front) {

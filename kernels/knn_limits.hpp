@@ -25,6 +25,15 @@ inline constexpr std::size_t kKnnExtra = 8;
 inline constexpr std::size_t kKnnGapsUpFrontMaxDim = 4;
 inline constexpr std::size_t kKnnGapsUpFrontMaxPanels = 1024;
 
+// Above that many dimensions, a tile first tests a group of
+// kKnnPanelsPerGroup consecutive panels by their common box, once, and skips
+// the whole group when it is too far: most panels a tile tests are far, and
+// one test per panel was a sixth of the 64-d kernel on AVX2 (whose narrower
+// panels make 256 of a 4096-point block). Only for clouds of at most
+// kKnnMaxGroupedPanels panels (a tile keeps a bit per group on its stack).
+inline constexpr std::size_t kKnnPanelsPerGroup = 8;
+inline constexpr std::size_t kKnnMaxGroupedPanels = 16384;
+
 // A row redone exactly ranks the points that could tie with its k-th
 // neighbour; past this many (thousands of copies of one point) it ranks all.
 inline constexpr std::size_t kKnnTieCandidates = 1024;
