@@ -30,6 +30,13 @@ struct KnnWorkspace {
   // length, laid out as panel_boxes and panel_max_radius (knn_limits.hpp).
   AlignedBuffer<float> group_boxes;
   AlignedBuffer<float> group_max_radius;
+
+  // Bytes held by all of the above (a caller's working-set report).
+  std::size_t bytes() const {
+    return gathered.capacity_bytes() + visited.capacity_bytes() + panels.capacity_bytes() + norms.capacity_bytes() +
+           centre.capacity_bytes() + panel_boxes.capacity_bytes() + panel_max_radius.capacity_bytes() +
+           panel_boxes_by_dim.capacity_bytes() + group_boxes.capacity_bytes() + group_max_radius.capacity_bytes();
+  }
 };
 
 // idx[i * k + j] = j-th nearest of point i (count x k). points: count x dim

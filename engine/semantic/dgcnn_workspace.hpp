@@ -25,9 +25,7 @@ struct DgcnnWorkspace {
   // Bytes held by every buffer: a forward pass's working set besides the
   // weights (benchmarks report it per block size).
   std::size_t bytes() const {
-    return knn.gathered.capacity_bytes() + knn.visited.capacity_bytes() + knn.panels.capacity_bytes() +
-           knn.norms.capacity_bytes() + knn.centre.capacity_bytes() + visit_order.capacity_bytes() +
-           order_keys.capacity_bytes() +
+    return knn.bytes() + visit_order.capacity_bytes() + order_keys.capacity_bytes() +
            neighbours.capacity_bytes() + edge_terms.capacity_bytes() + local.capacity_bytes() +
            global.capacity_bytes() + head_bias.capacity_bytes() + head1.capacity_bytes() + head2.capacity_bytes();
   }
