@@ -40,6 +40,9 @@ constexpr bool takes_larger(int lane, int run, int distance) {
   return ((lane & distance) != 0) != ((lane & run) != 0);
 }
 
+// The compare-exchange pieces per vector type: the smaller and the larger
+// key of each lane pair, and one in-vector stage (each lane against the lane
+// `Distance` away) for the keys first_key .. of one vector.
 #if defined(__AVX512F__)
 // The plain forms of these intrinsics pass GCC 12's _mm512_undefined_epi32()
 // as the unused merge source, which it then reports as used uninitialized;
@@ -47,66 +50,57 @@ constexpr bool takes_larger(int lane, int run, int distance) {
 inline __m512i min_keys(__m512i a, __m512i b) { return _mm512_maskz_min_epi64(0xff, a, b); }
 inline __m512i max_keys(__m512i a, __m512i b) { return _mm512_maskz_max_epi64(0xff, a, b); }
 
-// One compare-exchange stage of a bitonic sort of the 32 keys in v (key 8a +
-// l in lane l of v[a]).
 template <int Run, int Distance>
-inline void bitonic_stage(__m512i (&v)[4]) {
-  if constexpr (Distance >= 8) {
-    constexpr int step = Distance / 8;
-#pragma GCC unroll 4
-    for (int a = 0; a < 4; ++a) {
-      if ((a & step) != 0) continue;
-      const __m512i low = min_keys(v[a], v[a + step]), high = max_keys(v[a], v[a + step]);
-      const bool ascending = ((8 * a) & Run) == 0;
-      v[a] = ascending ? low : high;
-      v[a + step] = ascending ? high : low;
-    }
-  } else {
-    const __m512i partner = _mm512_set_epi64(7 ^ Distance, 6 ^ Distance, 5 ^ Distance, 4 ^ Distance, 3 ^ Distance,
-                                             2 ^ Distance, 1 ^ Distance, 0 ^ Distance);
-#pragma GCC unroll 4
-    for (int a = 0; a < 4; ++a) {
-      __mmask8 larger = 0;
-      for (int l = 0; l < 8; ++l) larger |= takes_larger(8 * a + l, Run, Distance) ? __mmask8(1u << l) : __mmask8(0);
-      const __m512i other = _mm512_maskz_permutexvar_epi64(0xff, partner, v[a]);
-      v[a] = _mm512_mask_blend_epi64(larger, min_keys(v[a], other), max_keys(v[a], other));
-    }
-  }
+inline __m512i exchanged_within(__m512i v, int first_key) {
+  const __m512i partner = _mm512_set_epi64(7 ^ Distance, 6 ^ Distance, 5 ^ Distance, 4 ^ Distance, 3 ^ Distance,
+                                           2 ^ Distance, 1 ^ Distance, 0 ^ Distance);
+  __mmask8 larger = 0;
+  for (int l = 0; l < 8; ++l) larger |= takes_larger(first_key + l, Run, Distance) ? __mmask8(1u << l) : __mmask8(0);
+  const __m512i other = _mm512_maskz_permutexvar_epi64(0xff, partner, v);
+  return _mm512_mask_blend_epi64(larger, min_keys(v, other), max_keys(v, other));
 }
 #endif
 
 #if defined(__AVX2__)
-// The same for 16 keys in four AVX2 vectors (key 4a + l in lane l of v[a]);
-// AVX2 has no 64-bit min or max, so a compare picks each lane's side.
+// AVX2 has no 64-bit min or max: a compare picks each lane's side (the
+// compiler shares the compare between a min and a max of the same pair).
+inline __m256i min_keys(__m256i a, __m256i b) { return _mm256_blendv_epi8(a, b, _mm256_cmpgt_epi64(a, b)); }
+inline __m256i max_keys(__m256i a, __m256i b) { return _mm256_blendv_epi8(b, a, _mm256_cmpgt_epi64(a, b)); }
+
 template <int Run, int Distance>
-inline void bitonic_stage(__m256i (&v)[4]) {
-  if constexpr (Distance >= 4) {
-    constexpr int step = Distance / 4;
+inline __m256i exchanged_within(__m256i v, int first_key) {
+  constexpr int swap = Distance == 1 ? _MM_SHUFFLE(2, 3, 0, 1) : _MM_SHUFFLE(1, 0, 3, 2);
+  const auto lane_mask = [first_key](int l) -> long long { return takes_larger(first_key + l, Run, Distance) ? -1 : 0; };
+  const __m256i larger = _mm256_set_epi64x(lane_mask(3), lane_mask(2), lane_mask(1), lane_mask(0));
+  const __m256i other = _mm256_permute4x64_epi64(v, swap);
+  // A lane takes its partner's key when that one is smaller (it keeps the
+  // smaller) or not (it keeps the larger).
+  const __m256i take_other = _mm256_xor_si256(_mm256_cmpgt_epi64(v, other), larger);
+  return _mm256_blendv_epi8(v, other, take_other);
+}
+#endif
+
+// One compare-exchange stage of a bitonic sort of the keys in four vectors
+// (key lanes * a + l in lane l of v[a]): between vectors when the distance
+// spans whole vectors, else within each.
+template <int Run, int Distance, class Vector>
+inline void bitonic_stage(Vector (&v)[4]) {
+  constexpr int lanes = static_cast<int>(sizeof(Vector) / sizeof(std::int64_t));
+  if constexpr (Distance >= lanes) {
+    constexpr int step = Distance / lanes;
 #pragma GCC unroll 4
     for (int a = 0; a < 4; ++a) {
       if ((a & step) != 0) continue;
-      const __m256i greater = _mm256_cmpgt_epi64(v[a], v[a + step]);
-      const __m256i low = _mm256_blendv_epi8(v[a], v[a + step], greater);
-      const __m256i high = _mm256_blendv_epi8(v[a + step], v[a], greater);
-      const bool ascending = ((4 * a) & Run) == 0;
+      const Vector low = min_keys(v[a], v[a + step]), high = max_keys(v[a], v[a + step]);
+      const bool ascending = ((lanes * a) & Run) == 0;
       v[a] = ascending ? low : high;
       v[a + step] = ascending ? high : low;
     }
   } else {
-    constexpr int swap = Distance == 1 ? _MM_SHUFFLE(2, 3, 0, 1) : _MM_SHUFFLE(1, 0, 3, 2);
 #pragma GCC unroll 4
-    for (int a = 0; a < 4; ++a) {
-      const auto lane_mask = [a](int l) -> long long { return takes_larger(4 * a + l, Run, Distance) ? -1 : 0; };
-      const __m256i larger = _mm256_set_epi64x(lane_mask(3), lane_mask(2), lane_mask(1), lane_mask(0));
-      const __m256i other = _mm256_permute4x64_epi64(v[a], swap);
-      // A lane takes its partner's key when that one is smaller (it keeps
-      // the smaller) or not (it keeps the larger).
-      const __m256i take_other = _mm256_xor_si256(_mm256_cmpgt_epi64(v[a], other), larger);
-      v[a] = _mm256_blendv_epi8(v[a], other, take_other);
-    }
+    for (int a = 0; a < 4; ++a) v[a] = exchanged_within<Run, Distance>(v[a], lanes * a);
   }
 }
-#endif
 
 // Batcher's bitonic sort of the keys in v, ascending: runs of 2, 4, ...
 // sorted alternately up and down, each pair merged into one sorted run.
