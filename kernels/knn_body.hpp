@@ -457,6 +457,12 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
       // Groups of panels (knn_limits.hpp): whether each was tested yet, and
       // whether it was too far. The limit only falls, so a group found too
       // far stays so; one that was near is left to its panels' own tests.
+      // The largest squared distance a box may be from the tile's and still
+      // hold a neighbour of one of its rows, for points of at most `radius`.
+      const auto limit_for = [&](float radius) {
+        const double reach = static_cast<double>(radius) + max_row_radius;
+        return rows_limit + slack * reach * reach;
+      };
       const bool grouped = q.group_boxes != nullptr;
       constexpr std::size_t kGroupWords = kKnnMaxGroupedPanels / kKnnPanelsPerGroup / 64;
       std::uint64_t group_tested[kGroupWords], group_far[kGroupWords];
@@ -474,17 +480,15 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
             if ((group_far[g / 64] & bit) != 0) continue;
             if ((group_tested[g / 64] & bit) == 0) {
               group_tested[g / 64] |= bit;
-              const double reach = static_cast<double>(q.group_max_radius[g]) + max_row_radius;
               const float* box = q.group_boxes + g * 2 * dim;
               if (box_gap_exceeds<Arch>(rows_lo, rows_hi, box, box + dim, dim, gap_shrink,
-                                        rows_limit + slack * reach * reach)) {
+                                        limit_for(q.group_max_radius[g]))) {
                 group_far[g / 64] |= bit;
                 continue;
               }
             }
           }
-          const double reach = static_cast<double>(q.panel_max_radius[p]) + max_row_radius;
-          const double limit = rows_limit + slack * reach * reach;
+          const double limit = limit_for(q.panel_max_radius[p]);
           if (gaps_up_front) {
             if (gap_shrink * static_cast<double>(panel_gap[p]) > limit) continue;
           } else {
