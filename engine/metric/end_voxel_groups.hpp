@@ -63,15 +63,17 @@ class LocalEndGroups {
   LocalEndGroups();
   // Forgets the groups and the cache.
   void clear();
-  // Folds point i, whose voxel is key, into a group. Inline: once per point.
-  void add(const VoxelKey& key, std::size_t i, const ClassSource& source) {
+  // Folds point i, whose voxel's packed key (pack()) is key, into a group.
+  // Inline: once per point.
+  void add(std::uint64_t key, std::size_t i, const ClassSource& source) {
     Slot& slot = cache_[cache_slot(key)];
-    if (slot.group == kNoGroup || !(slot.key == key)) {
+    if (slot.key != key) {  // an empty slot holds kEmptySlot, which no voxel packs to
       slot.key = key;
       slot.group = static_cast<std::uint32_t>(keys_.size());
-      keys_.push_back(key);
+      const VoxelKey voxel = unpack_voxel(key);
+      keys_.push_back(voxel);
       observations_.emplace_back();
-      box_.add(key);
+      box_.add(voxel);
     }
     observe(observations_[slot.group], i, source);
   }
@@ -81,16 +83,16 @@ class LocalEndGroups {
   const VoxelBox& box() const { return box_; }
 
  private:
-  static constexpr std::uint32_t kNoGroup = 0xffffffffu;
+  // Packed keys use 63 bits (pack()), so the all-ones word marks an empty slot.
+  static constexpr std::uint64_t kEmptySlot = ~std::uint64_t{0};
   static constexpr int kCacheBits = 10;
   struct Slot {
-    VoxelKey key;
-    std::uint32_t group = kNoGroup;
+    std::uint64_t key = kEmptySlot;
+    std::uint32_t group = 0;
   };
-  static std::size_t cache_slot(const VoxelKey& k) {
-    const std::uint32_t h = static_cast<std::uint32_t>(k.x) * 0x9e3779b1u ^ static_cast<std::uint32_t>(k.y) * 0x85ebca77u ^
-                            static_cast<std::uint32_t>(k.z) * 0xc2b2ae3du;
-    return h >> (32 - kCacheBits);
+  // Fibonacci hashing: the top bits of the product depend on every key bit.
+  static std::size_t cache_slot(std::uint64_t key) {
+    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ull) >> (64 - kCacheBits));
   }
   // Inline: called once per point.
   static void observe(ClassObservation& obs, std::size_t i, const ClassSource& source) {

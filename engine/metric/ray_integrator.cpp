@@ -28,6 +28,7 @@
 #include "engine/metric/flat_key_index.hpp"
 #include "kernels/ray_marking.hpp"
 #include "kernels/simd_level.hpp"
+#include "kernels/voxel_keys.hpp"
 
 namespace sarmap::metric {
 
@@ -65,6 +66,8 @@ struct ThreadRays {
     return b;
   }
 };
+static_assert(kernels::kVoxelKeyBits == kPackBits && kernels::kVoxelKeyOffset == kPackOffset,
+              "the key kernel packs voxels as pack() does");
 static_assert(kernels::kMarkBlockShift == kBlockShift && kernels::kMarkBlockWords == BlockMask{}.size(),
               "the marking kernel's blocks are the map's blocks");
 
@@ -93,6 +96,8 @@ struct PointChunk {
 // Points per chunk of pass 1's parallel part: fixed, so that the rays are
 // concatenated in the same order for any thread count.
 constexpr std::size_t kChunkPoints = 16384;
+// Points whose keys the kernel computes at a time (on the stack, in L1).
+constexpr std::size_t kKeyBatch = 512;
 
 // The marking kernel addresses the grid's words with 32-bit indices.
 constexpr std::size_t kDenseGridMaxBlocks = (std::size_t{1} << 31) / kernels::kMarkBlockWords;
@@ -206,22 +211,31 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   if (s.chunks.size() < chunk_count) s.chunks.resize(chunk_count);
   if (s.local_groups.size() < chunk_count) s.local_groups.resize(chunk_count);
   const ClassSource class_source = ClassSource::of(points, settings_.use_scores);
+  const kernels::SimdLevel level = kernels::active_simd_level();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::uint64_t keys[kKeyBatch];
     for (std::size_t c = r.begin(); c != r.end(); ++c) {
       PointChunk& chunk = s.chunks[c];
       LocalEndGroups& groups = s.local_groups[c];
       chunk.clear();
       groups.clear();
       const std::size_t end = std::min(points.size(), (c + 1) * kChunkPoints);
-      for (std::size_t i = c * kChunkPoints; i < end; ++i) {
-        const double x = xs[i], y = ys[i], z = zs[i];
-        if (!within_map_limits(x, y, z)) {
-          ++chunk.rejected;
-          continue;
+      for (std::size_t first = c * kChunkPoints; first < end; first += kKeyBatch) {
+        const std::size_t n = std::min(kKeyBatch, end - first);
+        kernels::voxel_keys(&xs[first], &ys[first], &zs[first], n, inv_res, kMaxCoordinate, keys, level);
+        for (std::size_t j = 0; j < n; ++j) {
+          if (keys[j] == kernels::kRejectedVoxelKey) {  // non-finite or beyond the map limits
+            ++chunk.rejected;
+            continue;
+          }
+          const std::size_t i = first + j;
+          // Every point casts its own ray unless discretising; only those in range are hits.
+          if (!settings_.discretize &&
+              !add_ray(chunk.rays, {double{xs[i]} * inv_res, double{ys[i]} * inv_res, double{zs[i]} * inv_res})) {
+            continue;
+          }
+          groups.add(keys[j], i, class_source);
         }
-        // Every point casts its own ray unless discretising; only those in range are hits.
-        if (!settings_.discretize && !add_ray(chunk.rays, {x * inv_res, y * inv_res, z * inv_res})) continue;
-        groups.add(key_of(x, y, z, inv_res), i, class_source);
       }
     }
   });
@@ -246,7 +260,6 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   // Pass 2: parallel walks into per-thread miss masks (several rays per step
   // in SIMD lanes where the CPU has AVX2 or AVX-512).
   for (ThreadRays& t : s.threads) t.clear();
-  const kernels::SimdLevel level = kernels::active_simd_level();
   const double start[3] = {o.x, o.y, o.z};
   const std::optional<kernels::DenseMaskGrid> box =
       scan_block_box(start, s.ray_ends, settings_.dense_walk_max_blocks);

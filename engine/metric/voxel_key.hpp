@@ -58,6 +58,12 @@ inline std::uint64_t pack(std::int32_t x, std::int32_t y, std::int32_t z) {
 }
 inline std::uint64_t pack(const VoxelKey& v) { return pack(v.x, v.y, v.z); }
 inline std::uint64_t pack(const BlockKey& b) { return pack(b.x, b.y, b.z); }
+inline VoxelKey unpack_voxel(std::uint64_t word) {
+  return {static_cast<std::int32_t>(static_cast<std::int64_t>(word & kPackMask) - kPackOffset),
+          static_cast<std::int32_t>(static_cast<std::int64_t>((word >> kPackBits) & kPackMask) - kPackOffset),
+          static_cast<std::int32_t>(static_cast<std::int64_t>((word >> (2 * kPackBits)) & kPackMask) -
+                                    kPackOffset)};
+}
 inline BlockKey unpack_block(std::uint64_t word) {
   return {static_cast<std::int32_t>(static_cast<std::int64_t>(word & kPackMask) - kPackOffset),
           static_cast<std::int32_t>(static_cast<std::int64_t>((word >> kPackBits) & kPackMask) - kPackOffset),

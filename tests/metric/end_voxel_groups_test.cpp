@@ -34,7 +34,7 @@ struct CyclingScan {
 
 std::vector<LocalEndGroups> group_in_stretches(const CyclingScan& scan, std::size_t stretch, const ClassSource& source) {
   std::vector<LocalEndGroups> stretches((scan.keys.size() + stretch - 1) / stretch);
-  for (std::size_t i = 0; i < scan.keys.size(); ++i) stretches[i / stretch].add(scan.keys[i], i, source);
+  for (std::size_t i = 0; i < scan.keys.size(); ++i) stretches[i / stretch].add(pack(scan.keys[i]), i, source);
   return stretches;
 }
 

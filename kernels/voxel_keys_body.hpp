@@ -1,0 +1,77 @@
+// voxel_keys() written once over the xsimd architecture, compiled per
+// instruction set by voxel_keys_{avx2,avx512}.cpp: a vector of doubles per
+// axis (the floats widened), floored, converted to 64-bit integers and
+// packed; lanes out of limits take kRejectedVoxelKey. The tail runs the
+// reference.
+#pragma once
+
+#include <xsimd/xsimd.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "kernels/voxel_keys.hpp"
+
+namespace sarmap::kernels {
+namespace {
+
+template <class Arch>
+inline xsimd::batch<double, Arch> load_widened(const float* p) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    return _mm512_cvtps_pd(_mm256_loadu_ps(p));
+  } else
+#endif
+  {
+    static_assert(std::is_base_of_v<xsimd::avx, Arch>, "load_widened: no conversion for this instruction set");
+    return _mm256_cvtps_pd(_mm_loadu_ps(p));
+  }
+}
+
+// Lanes holding integers within int32 range, as 64-bit integers (AVX2 has no
+// direct double-to-int64 conversion; xsimd's fallback is scalar).
+template <class Arch>
+inline xsimd::batch<std::int64_t, Arch> to_int64(const xsimd::batch<double, Arch>& x) {
+#if defined(__AVX512F__)
+  if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+    return _mm512_cvtepi32_epi64(_mm512_cvttpd_epi32(x));
+  } else
+#endif
+  {
+    static_assert(std::is_base_of_v<xsimd::avx2, Arch>, "to_int64: no conversion for this instruction set");
+    return _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(x));
+  }
+}
+
+template <class Arch>
+void voxel_keys_impl(const float* x, const float* y, const float* z, std::size_t count, double inv_resolution,
+                     double max_coordinate, std::uint64_t* keys) {
+  using D = xsimd::batch<double, Arch>;
+  using I = xsimd::batch<std::int64_t, Arch>;
+  constexpr std::size_t N = D::size;
+  const D inv(inv_resolution), limit(max_coordinate);
+  const I offset(kVoxelKeyOffset);
+  const float* axes[3] = {x, y, z};
+  std::size_t i = 0;
+  for (; i + N <= count; i += N) {
+    I packed(std::int64_t{0});
+    auto inside = D(0.0) == D(0.0);  // all lanes true
+    for (int a = 0; a < 3; ++a) {
+      const D c = load_widened<Arch>(axes[a] + i);
+      const auto axis_inside = xsimd::abs(c) <= limit;  // false for NaN
+      inside = inside && axis_inside;
+      // Out-of-limit lanes are floored as 0 (their key is replaced below),
+      // so every conversion is of an integer well within int32.
+      const I index = to_int64<Arch>(xsimd::floor(xsimd::select(axis_inside, c, D(0.0)) * inv)) + offset;
+      packed = packed | (index << (kVoxelKeyBits * a));
+    }
+    // All ones (kRejectedVoxelKey) where a lane is out of limits: -1 or 0.
+    const I rejected = -to_int64<Arch>(xsimd::select(inside, D(0.0), D(1.0)));
+    (packed | rejected).store_unaligned(reinterpret_cast<std::int64_t*>(keys + i));
+  }
+  voxel_keys_reference(x + i, y + i, z + i, count - i, inv_resolution, max_coordinate, keys + i);
+}
+
+}  // namespace
+}  // namespace sarmap::kernels
