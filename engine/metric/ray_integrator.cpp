@@ -128,7 +128,9 @@ struct RayIntegrator::Scratch {
   std::vector<BlockMask> merged_miss, merged_hit;
   std::vector<std::uint32_t> order;
   std::vector<MetricMap::Blocks::Block*> block_of_index;
-  std::vector<std::uint32_t> hit_list;
+  // In-range end voxels (hits) by merged block: hit_list[hit_start[b] ..
+  // hit_start[b + 1]) are block b's; hit_block and hit_cursor build it.
+  std::vector<std::uint32_t> hit_list, hit_block, hit_cursor, hit_start;
 };
 
 IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
@@ -325,15 +327,28 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
       }
     }
   }
-  s.hit_list.clear();
+  // Hits: each in-range end voxel's block (created if no ray crossed it),
+  // then the hits listed by block (a counting sort), so that pass 4 updates
+  // a block's misses and hits in one task without looking blocks up again.
+  s.hit_block.clear();
   for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
-    if (s.end_in_range[u]) s.hit_list.push_back(u);
+    if (s.end_in_range[u]) s.hit_block.push_back(merged_index(pack(block_of(end_keys[u]))));
   }
-  for (std::uint32_t u : s.hit_list) merged_index(pack(block_of(end_keys[u])));
   s.merged_hit.assign(s.merged_miss.size(), BlockMask{});
-  for (std::uint32_t u : s.hit_list) {
-    const int l = local_index(end_keys[u]);
-    s.merged_hit[s.merged.find(pack(block_of(end_keys[u])))][l >> 6] |= std::uint64_t{1} << (l & 63);
+  s.hit_start.assign(s.merged_miss.size() + 1, 0);
+  for (std::uint32_t b : s.hit_block) ++s.hit_start[b + 1];
+  for (std::size_t b = 1; b < s.hit_start.size(); ++b) s.hit_start[b] += s.hit_start[b - 1];
+  s.hit_list.resize(s.hit_block.size());
+  {
+    std::size_t h = 0;
+    s.hit_cursor.assign(s.hit_start.begin(), s.hit_start.end() - 1);
+    for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
+      if (!s.end_in_range[u]) continue;
+      const std::uint32_t b = s.hit_block[h++];
+      s.hit_list[s.hit_cursor[b]++] = u;
+      const int l = local_index(end_keys[u]);
+      s.merged_hit[b][l >> 6] |= std::uint64_t{1} << (l & 63);
+    }
   }
   const auto& merged_keys = s.merged.keys();
   s.order.resize(merged_keys.size());
@@ -352,7 +367,8 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   }
   stats.hits = s.hit_list.size();
 
-  // Pass 4: parallel updates; each voxel belongs to exactly one task.
+  // Pass 4: parallel updates, one block per task (its misses, then its
+  // hits), so each voxel belongs to exactly one task.
   const OccupancyModel& occ = map.occupancy();
   const LabelFusion& fusion = map.fusion();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
@@ -368,17 +384,12 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
                             if (occ.state(v.log_odds) == VoxelState::Free) fusion.decay(v.evidence);
                           }
                         }
-                      }
-                    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.hit_list.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const std::uint32_t u = s.hit_list[i];
-                        const VoxelKey& k = end_keys[u];
-                        auto* block = s.block_of_index[s.merged.find(pack(block_of(k)))];
-                        SemanticVoxel& v = block->voxels[local_index(k)];
-                        v.log_odds = occ.add(v.log_odds, occ.hit());
-                        fusion.observe(v.evidence, s.ends.observations()[u]);
+                        for (std::size_t h = s.hit_start[b]; h != s.hit_start[b + 1]; ++h) {
+                          const std::uint32_t u = s.hit_list[h];
+                          SemanticVoxel& v = voxels[local_index(end_keys[u])];
+                          v.log_odds = occ.add(v.log_odds, occ.hit());
+                          fusion.observe(v.evidence, s.ends.observations()[u]);
+                        }
                       }
                     });
   return stats;
