@@ -94,8 +94,11 @@ struct PointChunk {
 };
 
 // Points per chunk of pass 1's parallel part: fixed, so that the rays are
-// concatenated in the same order for any thread count.
-constexpr std::size_t kChunkPoints = 16384;
+// concatenated in the same order for any thread count; small enough that a
+// 320 x 240 scan makes ten chunks (five of 16384 split 3 : 2 between two
+// threads), large enough that few voxels straddle chunks (each such voxel is
+// one more group to merge serially).
+constexpr std::size_t kChunkPoints = 8192;
 // Points whose keys the kernel computes at a time (on the stack, in L1).
 constexpr std::size_t kKeyBatch = 512;
 
@@ -268,9 +271,12 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   stats.dense_walks = box ? 1 : 0;
   if (box) {
     const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(*box);
-    // Ranges of at least 1024 rays: the SIMD lanes drain at the end of every
-    // call, so short calls leave lanes idle (64 measured 4-8 % slower at 1 thread).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 1024),
+    // Ranges of 256-512 rays (about 10-20 per scan of a 320 x 240 camera):
+    // the SIMD lanes drain at the end of every call, so short calls leave
+    // lanes idle (64 measured 4-8 % slower at 1 thread), but with fewer than
+    // about ten ranges two threads got uneven shares (auto_partitioner made
+    // 5-8 of 630-1024 rays).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 512),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         ThreadRays& t = s.threads.local();
                         if (!t.dense_in_use) {
@@ -281,7 +287,7 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
                         grid.words = t.dense.data();
                         t.visits += kernels::mark_ray_cells_dense(start, &s.ray_ends[range.begin()].x, range.size(),
                                                                   grid, level);
-                      });
+                      }, tbb::simple_partitioner());
   } else {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
