@@ -293,12 +293,13 @@ IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& poi
   stats.dense_walks = box ? 1 : 0;
   if (box) {
     const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(*box);
-    // Ranges of 256-512 rays (about 10-20 per scan of a 320 x 240 camera):
-    // the SIMD lanes drain at the end of every call, so short calls leave
-    // lanes idle (64 measured 4-8 % slower at 1 thread), but with fewer than
-    // about ten ranges two threads got uneven shares (auto_partitioner made
-    // 5-8 of 630-1024 rays).
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), 512),
+    // About 16-32 ranges per scan, of at least 256 rays: the SIMD lanes
+    // drain at the end of every call, so short calls leave lanes idle (64
+    // rays measured 4-8 % slower at 1 thread), but with fewer than about ten
+    // ranges two threads got uneven shares (auto_partitioner made 5-8 of
+    // 630-1024 rays at 0.05 m).
+    const std::size_t grain = std::max<std::size_t>(512, (s.ray_ends.size() + 15) / 16);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.ray_ends.size(), grain),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         ThreadRays& t = s.threads.local();
                         if (!t.dense_in_use) {
