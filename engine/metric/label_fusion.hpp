@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 
 #include "engine/core/classes.hpp"
 
@@ -59,6 +60,13 @@ class LabelFusion {
   // A miss that leaves the voxel free: evidence shrinks towards none.
   // Inline: called for every free voxel of every scan.
   void decay(ClassEvidence& evidence) const {
+    // Most free voxels never held a class: one 12-byte test instead of six
+    // multiply-divides (and no store, so the voxel's line stays clean).
+    std::uint64_t lo;
+    std::uint32_t hi;
+    std::memcpy(&lo, evidence.data(), sizeof lo);
+    std::memcpy(&hi, evidence.data() + 4, sizeof hi);
+    if ((lo | hi) == 0) return;
     for (auto& e : evidence) e = static_cast<std::int16_t>(e * keep_q8_ / 256);
   }
   // The class with the most evidence (lowest id on ties); Unknown when none has any.
