@@ -1,13 +1,15 @@
 // One scan in four passes: (1) the distinct end voxels with their class
-// observations (grouped locally in parallel, merged in order: end_voxel_groups.hpp);
+// observations (keys by a vector kernel, kernels/voxel_keys.hpp; grouped
+// locally in parallel, merged in order: end_voxel_groups.hpp), and one ray
+// per end voxel;
 // (2) parallel DDA walks that only set "miss" bits in per-thread masks (no
 // locks, no atomics, no map access) — a dense grid of block masks over the
 // scan's box when it is small enough, which needs no look-up per block, else
 // masks found through a per-thread hash table; (3) a serial merge of the
 // masks (OR, so the union does not depend on which thread walked which ray),
-// block creation in sorted key order, and hit bits that override misses;
-// (4) parallel updates, one block or one hit voxel per task, so every voxel
-// is written exactly once by one thread.
+// block creation in sorted key order, hit bits that override misses, and
+// the hits listed by block; (4) parallel updates, one block per task (its
+// misses, then its hits), so every voxel is written exactly once by one thread.
 #include "engine/metric/ray_integrator.hpp"
 
 #include <algorithm>
