@@ -12,7 +12,7 @@ void voxel_keys_reference(const float* x, const float* y, const float* z, std::s
     std::uint64_t packed = 0;
     bool inside = true;
     for (int a = 0; a < 3; ++a) {
-      inside = inside && std::fabs(c[a]) <= max_coordinate;  // false for NaN
+      inside = std::fabs(c[a]) <= max_coordinate;  // false for NaN
       if (!inside) break;
       const auto index = static_cast<std::int64_t>(std::floor(c[a] * inv_resolution));
       packed |= (static_cast<std::uint64_t>(index + kVoxelKeyOffset) & kVoxelKeyMask) << (kVoxelKeyBits * a);
