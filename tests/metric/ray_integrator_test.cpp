@@ -180,6 +180,30 @@ TEST(RayIntegrator, BadLabelThrowsBeforeTouchingTheMap) {
   EXPECT_TRUE(map.blocks().empty());
 }
 
+// Labels are checked in parallel per stretch of points; the error names the
+// first bad point of the scan, whichever thread found which.
+TEST(RayIntegrator, BadLabelErrorNamesTheFirstBadPointAcrossChunks) {
+  testing::SyntheticRoom room;
+  auto scan = room.frame(0, 1, 256, 192);
+  ASSERT_GT(scan.points.size(), 30000u);  // several of pass 1's chunks
+  scan.points.labels()[25000] = 6;
+  scan.points.labels()[9000] = 9;
+  for (const int threads : {1, 2}) {
+    tbb::task_arena arena(threads);
+    MetricMap map(settings_at_resolution(kRes));
+    RayIntegrator integrator;
+    arena.execute([&] {
+      try {
+        integrator.integrate(map, scan.points, scan.origin);
+        ADD_FAILURE() << "expected an error";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("point 9000 has label 9"), std::string::npos) << e.what();
+      }
+    });
+    EXPECT_TRUE(map.blocks().empty());
+  }
+}
+
 TEST(RayIntegrator, HistogramFusionCountsPointsPerClass) {
   MetricMapSettings ms = settings_at_resolution(kRes);
   ms.fusion.fusion = ClassFusion::Histogram;

@@ -1,0 +1,266 @@
+#include "engine/metric/scan_rays.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "kernels/simd_level.hpp"
+#include "kernels/voxel_keys.hpp"
+
+namespace sarmap::metric {
+
+static_assert(kernels::kVoxelKeyBits == kPackBits && kernels::kVoxelKeyOffset == kPackOffset,
+              "the key kernel packs voxels as pack() does");
+static_assert(kernels::kMarkBlockShift == kBlockShift && kernels::kMarkBlockWords * 64 == kBlockVoxels,
+              "the marking kernel's blocks are the map's blocks");
+static_assert(sizeof(RayEnd) == 3 * sizeof(double), "ray ends are read as packed xyz triples");
+
+void ThreadMisses::clear() {
+  blocks.clear();
+  miss.clear();
+  miss_words = nullptr;
+  visits = 0;
+  dense_in_use = false;
+}
+
+std::uint32_t ThreadMisses::block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
+  auto& t = *static_cast<ThreadMisses*>(self);
+  const std::uint32_t b = t.blocks.find_or_insert(pack(bx, by, bz));
+  if (b == t.miss.size()) {
+    t.miss.emplace_back();
+    t.miss_words = t.miss.front().data();
+  }
+  return b;
+}
+
+namespace {
+
+// Points per chunk of pass 1's parallel part: fixed, so that the rays are
+// concatenated in the same order for any thread count; small enough that a
+// 320 x 240 scan makes ten chunks (five of 16384 split 3 : 2 between two
+// threads), large enough that few voxels straddle chunks (each such voxel is
+// one more group to merge serially).
+constexpr std::size_t kChunkPoints = 8192;
+// Points whose keys the kernel computes at a time (on the stack, in L1).
+constexpr std::size_t kKeyBatch = 512;
+
+// The marking kernel addresses the grid's words with 32-bit indices.
+constexpr std::size_t kDenseGridMaxBlocks = (std::size_t{1} << 31) / kernels::kMarkBlockWords;
+
+// The scan's dense mask grid (without words), or nothing when it has more
+// than max_blocks blocks.
+std::optional<kernels::DenseMaskGrid> scan_block_box(const double start[3], const std::vector<RayEnd>& ends,
+                                                     std::size_t max_blocks) {
+  max_blocks = std::min(max_blocks, kDenseGridMaxBlocks - 1);
+  if (max_blocks == 0 || ends.empty()) return std::nullopt;
+  // Ray ends are within the map limits (+-10 km, at 1 cm at most 250,001
+  // blocks per axis), so the product of the extents fits a size_t.
+  const kernels::DenseMaskGrid grid = kernels::dense_grid_covering(start, &ends.front().x, ends.size());
+  if (kernels::dense_grid_blocks(grid) > max_blocks) return std::nullopt;
+  return grid;
+}
+
+// The first point of labels[first, end) whose label is not a class id, or end.
+std::size_t first_bad_label(std::span<const std::uint8_t> labels, std::size_t first, std::size_t end) {
+  // The largest label first: a loop the compiler vectorises, and the
+  // labels are then in cache for pass 1's observations.
+  std::uint8_t largest = 0;
+  for (std::size_t i = first; i < end; ++i) largest = std::max(largest, labels[i]);
+  if (largest < kClassCount) return end;
+  for (std::size_t i = first; i < end; ++i) {
+    if (labels[i] >= kClassCount) return i;
+  }
+  return end;
+}
+
+// The ray to an end (voxel units): the end itself when within range (a
+// hit), else cut at the max range (misses only) or, when cutting is off, none.
+enum class RayKind : std::uint8_t { Hit, Cut, None };
+struct RayCutter {
+  RayEnd origin;
+  double resolution;
+  double max_range;    // metres; 0 = no limit
+  double max_range_v;  // the same in voxel units
+  bool clear_beyond;
+
+  RayKind ray_to(const RayEnd& end, RayEnd& ray) const {
+    const double dx = end.x - origin.x, dy = end.y - origin.y, dz = end.z - origin.z;
+    const double length_v = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (max_range == 0 || !(length_v * resolution > max_range)) {
+      ray = end;
+      return RayKind::Hit;
+    }
+    if (!clear_beyond) return RayKind::None;
+    // Cut in voxel units, the ray's own coordinate system.
+    const double f = max_range_v / length_v;
+    ray = {origin.x + dx * f, origin.y + dy * f, origin.z + dz * f};
+    return RayKind::Cut;
+  }
+};
+
+}  // namespace
+
+void ScanRays::compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                       const Eigen::Vector3d& origin, IntegrationStats& stats) {
+  if (!within_map_limits(origin.x(), origin.y(), origin.z())) {
+    throw Error(ErrorCode::OutOfRange, "ray integrator: sensor origin (" + std::to_string(origin.x()) + ", " +
+                                           std::to_string(origin.y()) + ", " + std::to_string(origin.z()) +
+                                           ") is beyond the map limits of +-10 km or not finite");
+  }
+  stats.points_in += points.size();
+  const double inv_res = 1.0 / resolution;
+  const RayEnd o{origin.x() * inv_res, origin.y() * inv_res, origin.z() * inv_res};
+  find_end_voxels(settings, resolution, points, o, stats);
+  walk(settings, o, stats);
+}
+
+// Pass 1: distinct end voxels, their observations, and the rays: keys,
+// local groups and rays in parallel over fixed chunks of points (rays
+// concatenated in chunk order), then the groups merged in chunk order, so
+// nothing depends on the thread count.
+void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                               const RayEnd& o, IntegrationStats& stats) {
+  const double inv_res = 1.0 / resolution;
+  const RayCutter cutter{o, resolution, settings.max_range, settings.max_range * inv_res,
+                         settings.clear_beyond_max_range};
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  const std::span<const std::uint8_t> labels =
+      points.has_labels() ? points.labels() : std::span<const std::uint8_t>{};
+  const std::size_t chunk_count = (points.size() + kChunkPoints - 1) / kChunkPoints;
+  if (chunks_.size() < chunk_count) chunks_.resize(chunk_count);
+  if (local_groups_.size() < chunk_count) local_groups_.resize(chunk_count);
+  const ClassSource class_source = ClassSource::of(points, settings.use_scores);
+  const kernels::SimdLevel level = kernels::active_simd_level();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunk_count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::uint64_t keys[kKeyBatch];
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      PointChunk& chunk = chunks_[c];
+      LocalEndGroups& groups = local_groups_[c];
+      chunk.rays.clear();
+      chunk.rejected = 0;
+      chunk.bad_label = PointChunk::kNoBadLabel;
+      groups.clear();
+      const std::size_t end = std::min(points.size(), (c + 1) * kChunkPoints);
+      if (!labels.empty()) {
+        // Checked here, in parallel, rather than before pass 1: a bad label
+        // would index past a group's class counts. The error is raised
+        // after the loop, before anything touches the map.
+        const std::size_t bad = first_bad_label(labels, c * kChunkPoints, end);
+        if (bad != end) {
+          chunk.bad_label = bad;
+          continue;
+        }
+      }
+      for (std::size_t first = c * kChunkPoints; first < end; first += kKeyBatch) {
+        const std::size_t n = std::min(kKeyBatch, end - first);
+        kernels::voxel_keys(&xs[first], &ys[first], &zs[first], n, inv_res, kMaxCoordinate, keys, level);
+        for (std::size_t j = 0; j < n; ++j) {
+          if (keys[j] == kernels::kRejectedVoxelKey) {  // non-finite or beyond the map limits
+            ++chunk.rejected;
+            continue;
+          }
+          const std::size_t i = first + j;
+          // Every point casts its own ray unless discretising; only those in range are hits.
+          if (!settings.discretize) {
+            RayEnd ray;
+            const RayKind kind =
+                cutter.ray_to({double{xs[i]} * inv_res, double{ys[i]} * inv_res, double{zs[i]} * inv_res}, ray);
+            if (kind != RayKind::None) chunk.rays.push_back(ray);
+            if (kind != RayKind::Hit) continue;
+          }
+          groups.add(keys[j], i, class_source);
+        }
+      }
+    }
+  });
+  for (std::size_t c = 0; c < chunk_count; ++c) {
+    if (chunks_[c].bad_label == PointChunk::kNoBadLabel) continue;
+    const std::size_t i = chunks_[c].bad_label;
+    throw Error(ErrorCode::InvalidData, "ray integrator: point " + std::to_string(i) + " has label " +
+                                            std::to_string(labels[i]) + "; class ids are 0..5");
+  }
+  rays_.clear();
+  for (std::size_t c = 0; c < chunk_count; ++c) {
+    stats.points_rejected += chunks_[c].rejected;
+    rays_.insert(rays_.end(), chunks_[c].rays.begin(), chunks_[c].rays.end());
+  }
+  ends_.merge(std::span<const LocalEndGroups>(local_groups_.data(), chunk_count), settings.dense_dedupe_max_cells);
+  const std::vector<VoxelKey>& end_keys = ends_.keys();
+  stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
+  stats.end_voxels += end_keys.size();
+  end_is_hit_.assign(end_keys.size(), 1);
+  if (settings.discretize) {
+    // One ray per end voxel, to its centre, computed in parallel (serially,
+    // this loop was a few per cent of a 2-thread run, the other thread idle),
+    // then the voxels without a ray (beyond range, not clearing) squeezed out.
+    rays_.resize(end_keys.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t u = range.begin(); u != range.end(); ++u) {
+                          const VoxelKey& k = end_keys[u];
+                          const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[u]);
+                          end_is_hit_[u] = kind == RayKind::Hit ? 1 : 0;
+                          // A NaN x marks "no ray" for the squeeze below.
+                          if (kind == RayKind::None) rays_[u].x = std::numeric_limits<double>::quiet_NaN();
+                        }
+                      });
+    if (!settings.clear_beyond_max_range) {
+      std::erase_if(rays_, [](const RayEnd& ray) { return std::isnan(ray.x); });
+    }
+  }
+  stats.rays += rays_.size();
+}
+
+// Pass 2: parallel walks into per-thread miss masks (several rays per step
+// in SIMD lanes where the CPU has AVX2 or AVX-512).
+void ScanRays::walk(const IntegratorSettings& settings, const RayEnd& o, IntegrationStats& stats) {
+  for (ThreadMisses& t : threads_) {
+    t.clear();
+    if (dense_dirty_) std::fill(t.dense.begin(), t.dense.end(), 0);
+  }
+  dense_dirty_ = false;
+  const double start[3] = {o.x, o.y, o.z};
+  const kernels::SimdLevel level = kernels::active_simd_level();
+  dense_box_ = scan_block_box(start, rays_, settings.dense_walk_max_blocks);
+  stats.dense_walks += dense_box_ ? 1 : 0;
+  if (dense_box_) {
+    const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(*dense_box_);
+    dense_dirty_ = true;
+    // About 16-32 ranges per scan, of at least 256 rays: the SIMD lanes
+    // drain at the end of every call, so short calls leave lanes idle (64
+    // rays measured 4-8 % slower at 1 thread), but with fewer than about ten
+    // ranges two threads got uneven shares (auto_partitioner made 5-8 of
+    // 630-1024 rays at 0.05 m).
+    const std::size_t grain = std::max<std::size_t>(512, (rays_.size() + 15) / 16);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), grain),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        ThreadMisses& t = threads_.local();
+                        if (!t.dense_in_use) {
+                          if (t.dense.size() < words) t.dense.resize(words, 0);  // all zero already
+                          t.dense_in_use = true;
+                        }
+                        kernels::DenseMaskGrid grid = *dense_box_;
+                        grid.words = t.dense.data();
+                        t.visits += kernels::mark_ray_cells_dense(start, &rays_[range.begin()].x, range.size(),
+                                                                  grid, level);
+                      }, tbb::simple_partitioner());
+  } else {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        ThreadMisses& t = threads_.local();
+                        const kernels::BlockMaskSink sink{&ThreadMisses::block_index, &t, &t.miss_words};
+                        t.visits += kernels::mark_ray_cells(start, &rays_[range.begin()].x, range.size(), sink,
+                                                            level);
+                      });
+  }
+  for (const ThreadMisses& t : threads_) stats.voxel_visits += t.visits;
+}
+
+}  // namespace sarmap::metric

@@ -1,0 +1,108 @@
+// What one scan's rays say, found without reading or writing the map: the
+// first two passes of ray integration (ray_integrator.hpp tells the whole
+// story). Pass 1 finds the distinct voxels the points end in, with their
+// class observations, and one ray per end voxel (or per point when not
+// discretising); pass 2 walks the rays and sets a bit for every voxel they
+// cross in per-thread block masks. Because nothing here touches the map,
+// one scan's ScanRays can be computed while the scan before is still being
+// written into the map (RayIntegrator::integrate_sequence).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <tbb/enumerable_thread_specific.h>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/metric/end_voxel_groups.hpp"
+#include "engine/metric/flat_key_index.hpp"
+#include "engine/metric/integration_settings.hpp"
+#include "kernels/ray_marking.hpp"
+
+namespace sarmap::metric {
+
+using BlockMask = std::array<std::uint64_t, kernels::kMarkBlockWords>;
+
+// One thread's misses for one scan: either a mask per block of the scan's
+// box (dense, no look-up per block) or a mask per block its rays crossed,
+// found through the thread's own key index. Walks share nothing.
+struct ThreadMisses {
+  FlatKeyIndex blocks{4096};
+  std::vector<BlockMask> miss;          // per entry of blocks
+  std::uint64_t* miss_words = nullptr;  // miss.data() as words, for the marking kernel
+  std::size_t visits = 0;
+  // A mask per block of the scan's box; valid for this scan only when
+  // dense_in_use (a thread that walked no ray has none). All zero between
+  // scans: ScanUpdate clears the blocks it reads, which costs less than
+  // zeroing the whole grid before each walk (a memset of the box per
+  // thread per scan was 4 % of the integrator's time).
+  std::vector<std::uint64_t> dense;
+  bool dense_in_use = false;
+
+  void clear();
+  // kernels::BlockMaskSink::block_index: the mask of a block, created empty.
+  static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz);
+};
+
+// A ray's end in voxel units.
+struct RayEnd {
+  double x, y, z;
+};
+
+class ScanRays {
+ public:
+  // Passes 1 and 2 for the scan's points (world frame) seen from origin, at
+  // the map's resolution (metres); adds points_in, points_rejected,
+  // end_voxels, rays, voxel_visits and the dense counts to stats. Throws
+  // sarmap::Error for an origin beyond the map limits (OutOfRange) or a
+  // label that is not a class id (InvalidData). Parallel over the calling
+  // thread's oneTBB arena; the results do not depend on its thread count.
+  void compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+               const Eigen::Vector3d& origin, IntegrationStats& stats);
+
+  // The distinct end voxels and their observations, in a fixed order.
+  const EndVoxelGroups& ends() const { return ends_; }
+  // Per end voxel: 1 when it is a hit (within the max range).
+  const std::vector<std::uint8_t>& end_is_hit() const { return end_is_hit_; }
+  // The grid the walk marked into, when the scan's box was small enough;
+  // else the threads' masks are per block through their key indices.
+  const std::optional<kernels::DenseMaskGrid>& dense_box() const { return dense_box_; }
+  // Every thread's misses (their union is the scan's). Non-const for
+  // ScanUpdate, which clears the dense grids as it merges them and then
+  // calls dense_grids_cleared().
+  tbb::enumerable_thread_specific<ThreadMisses>& threads() { return threads_; }
+  void dense_grids_cleared() { dense_dirty_ = false; }
+
+ private:
+  // Pass 1's work on one fixed stretch of points besides its end-voxel
+  // groups (local_groups_): (when not discretising) their rays in point
+  // order, the points rejected, and the first point with a bad label.
+  struct PointChunk {
+    std::vector<RayEnd> rays;
+    std::size_t rejected = 0;
+    std::size_t bad_label = kNoBadLabel;
+    static constexpr std::size_t kNoBadLabel = ~std::size_t{0};
+  };
+
+  void find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                       const RayEnd& origin, IntegrationStats& stats);
+  void walk(const IntegratorSettings& settings, const RayEnd& origin, IntegrationStats& stats);
+
+  std::vector<PointChunk> chunks_;
+  std::vector<LocalEndGroups> local_groups_;  // per chunk
+  EndVoxelGroups ends_;
+  std::vector<std::uint8_t> end_is_hit_;
+  std::vector<RayEnd> rays_;
+  std::optional<kernels::DenseMaskGrid> dense_box_;
+  // Set from a dense walk until ScanUpdate has cleared the grids; if still
+  // set at the next compute() (the scan was never applied, or a walk threw),
+  // the grids are zeroed there.
+  bool dense_dirty_ = false;
+  tbb::enumerable_thread_specific<ThreadMisses> threads_;
+};
+
+}  // namespace sarmap::metric
