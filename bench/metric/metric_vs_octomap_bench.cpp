@@ -1,7 +1,8 @@
 // sarmap's metric map against OctoMap (Debian's liboctomap) in one binary, on
 // the same simulated sequence: OctoMap's insertPointCloud(..., discretize=true)
-// versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, and
-// both at 320 x 240 and 640 x 480. Each iteration maps all 160 frames into a
+// versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, fed
+// one frame at a time and as a sequence (integrate_sequence), and both at
+// 320 x 240 and 640 x 480. Each iteration maps all 160 frames into a
 // fresh map; each case runs three times and reports the fastest too.
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
@@ -70,7 +71,13 @@ void BM_OctoMap(benchmark::State& state) {
   state.counters["memory_MB"] = static_cast<double>(bytes) / 1e6;
 }
 
+// How sarmap is given the frames: one integrate() call per frame, or the
+// whole sequence to integrate_sequence(), which walks frame k's rays while
+// frame k - 1 is written into the map.
+enum class Feed { PerScan, Sequence };
+
 // Args: resolution in mm, image width, threads.
+template <Feed feed>
 void BM_Sarmap(benchmark::State& state) {
   const double res = state.range(0) / 1000.0;
   const int width = static_cast<int>(state.range(1));
@@ -83,7 +90,11 @@ void BM_Sarmap(benchmark::State& state) {
   for (auto _ : state) {
     sarmap::metric::MetricMap map(sarmap::metric::settings_at_resolution(res));
     stats = {};
-    for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
+    if constexpr (feed == Feed::PerScan) {
+      for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
+    } else {
+      for (const auto& one : integrator.integrate_sequence(map, scans)) stats += one;
+    }
     state.PauseTiming();
     known = map.counts().known;
     bytes = map.memory_bytes();
@@ -109,7 +120,11 @@ double fastest(const std::vector<double>& runs) { return *std::min_element(runs.
 BENCHMARK(BM_OctoMap)->ArgNames({"res_mm", "width"})->Args({50, 320})->Args({25, 320})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
-BENCHMARK(BM_Sarmap)->ArgNames({"res_mm", "width", "threads"})
+BENCHMARK(BM_Sarmap<Feed::PerScan>)->Name("BM_Sarmap")->ArgNames({"res_mm", "width", "threads"})
+    ->Args({50, 320, 1})->Args({50, 320, 2})->Args({25, 320, 1})->Args({25, 320, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
+BENCHMARK(BM_Sarmap<Feed::Sequence>)->Name("BM_SarmapSequence")->ArgNames({"res_mm", "width", "threads"})
     ->Args({50, 320, 1})->Args({50, 320, 2})->Args({25, 320, 1})->Args({25, 320, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
@@ -117,8 +132,12 @@ BENCHMARK(BM_Sarmap)->ArgNames({"res_mm", "width", "threads"})
 BENCHMARK(BM_OctoMap)->Name("BM_OctoMap_640")->ArgNames({"res_mm", "width"})->Args({50, 640})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
-BENCHMARK(BM_Sarmap)->Name("BM_Sarmap_640")->ArgNames({"res_mm", "width", "threads"})
+BENCHMARK(BM_Sarmap<Feed::PerScan>)->Name("BM_Sarmap_640")->ArgNames({"res_mm", "width", "threads"})
     ->Args({50, 640, 2})->Args({25, 640, 1})->Args({25, 640, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
+BENCHMARK(BM_Sarmap<Feed::Sequence>)->Name("BM_SarmapSequence_640")->ArgNames({"res_mm", "width", "threads"})
+    ->Args({50, 640, 2})->Args({25, 640, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
 

@@ -1,0 +1,150 @@
+// integrate_sequence(), which walks one scan's rays while the scan before is
+// written into the map: the same map and per-scan figures as integrate() on
+// each scan in turn, for 1 and 2 threads and every scratch path; an error in
+// one scan leaves exactly the scans before it in the map.
+#include "engine/metric/ray_integrator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "engine/core/error.hpp"
+#include "tests/metric/synthetic_room.hpp"
+
+namespace sarmap::metric {
+namespace {
+
+bool maps_identical(const MetricMap& a, const MetricMap& b) {
+  const auto ka = a.blocks().sorted_block_keys(), kb = b.blocks().sorted_block_keys();
+  if (ka != kb) return false;
+  for (const BlockKey& k : ka) {
+    const auto& va = a.blocks().find(k)->voxels;
+    const auto& vb = b.blocks().find(k)->voxels;
+    if (std::memcmp(va.data(), vb.data(), sizeof(va)) != 0) return false;
+  }
+  return true;
+}
+
+void expect_same_stats(const IntegrationStats& a, const IntegrationStats& b) {
+  EXPECT_EQ(a.points_in, b.points_in);
+  EXPECT_EQ(a.points_rejected, b.points_rejected);
+  EXPECT_EQ(a.end_voxels, b.end_voxels);
+  EXPECT_EQ(a.rays, b.rays);
+  EXPECT_EQ(a.voxel_visits, b.voxel_visits);
+  EXPECT_EQ(a.hits, b.hits);
+  EXPECT_EQ(a.misses, b.misses);
+  EXPECT_EQ(a.blocks_created, b.blocks_created);
+  EXPECT_EQ(a.dense_walks, b.dense_walks);
+  EXPECT_EQ(a.dense_dedupes, b.dense_dedupes);
+}
+
+// Scans of the synthetic room, with a far point in some so that their boxes
+// differ in size, and (when asked) a point beyond the map limits.
+std::vector<Scan> room_scans(int count, int width, int height) {
+  testing::SyntheticRoom room;
+  std::vector<Scan> scans;
+  for (int f = 0; f < count; ++f) {
+    auto frame = room.frame(f, count, width, height);
+    Scan scan;
+    scan.points = std::move(frame.points);
+    scan.origin = frame.origin;
+    scan.index = static_cast<std::size_t>(f);
+    if (f % 3 == 1) {
+      scan.points.push_back(40.0f, 3.0f, 1.0f);  // a long ray: a larger box, other blocks
+      scan.points.labels()[scan.points.size() - 1] = 1;
+    }
+    scans.push_back(std::move(scan));
+  }
+  return scans;
+}
+
+TEST(RayIntegratorSequence, SameMapAndFiguresAsOneScanAtATime) {
+  const std::vector<Scan> scans = room_scans(7, 96, 72);
+  IntegratorSettings dense, hashed, ranged;
+  hashed.dense_walk_max_blocks = 0;
+  hashed.dense_dedupe_max_cells = 0;
+  ranged.max_range = 2.5;
+  for (const IntegratorSettings& settings : {dense, hashed, ranged}) {
+    for (const int threads : {1, 2}) {
+      SCOPED_TRACE(::testing::Message() << threads << " threads, walk dense up to "
+                                        << settings.dense_walk_max_blocks << " blocks, max range "
+                                        << settings.max_range);
+      tbb::task_arena arena(threads);
+      MetricMap one_by_one(settings_at_resolution(0.05)), sequenced(settings_at_resolution(0.05));
+      RayIntegrator a(settings), b(settings);
+      std::vector<IntegrationStats> singles, sequence;
+      arena.execute([&] {
+        for (const Scan& scan : scans) singles.push_back(a.integrate(one_by_one, scan.points, scan.origin));
+        sequence = b.integrate_sequence(sequenced, scans);
+      });
+      ASSERT_EQ(sequence.size(), scans.size());
+      for (std::size_t k = 0; k < scans.size(); ++k) {
+        SCOPED_TRACE(::testing::Message() << "scan " << k);
+        expect_same_stats(singles[k], sequence[k]);
+        EXPECT_GT(sequence[k].misses, 1000u);
+      }
+      EXPECT_TRUE(maps_identical(one_by_one, sequenced));
+      EXPECT_GT(sequenced.counts().occupied, 500u);
+    }
+  }
+}
+
+// The integrator keeps scratch between calls: a sequence after single scans
+// and single scans after a sequence give the same map as all one by one.
+TEST(RayIntegratorSequence, MixesWithSingleScansOnOneIntegrator) {
+  const std::vector<Scan> scans = room_scans(6, 64, 48);
+  MetricMap mixed(settings_at_resolution(0.05)), reference(settings_at_resolution(0.05));
+  RayIntegrator a, b;
+  a.integrate(mixed, scans[0].points, scans[0].origin);
+  a.integrate_sequence(mixed, std::span<const Scan>(scans).subspan(1, 4));
+  a.integrate(mixed, scans[5].points, scans[5].origin);
+  for (const Scan& scan : scans) b.integrate(reference, scan.points, scan.origin);
+  EXPECT_TRUE(maps_identical(mixed, reference));
+}
+
+TEST(RayIntegratorSequence, EmptySequenceLeavesTheMapAlone) {
+  MetricMap map(settings_at_resolution(0.05));
+  RayIntegrator integrator;
+  EXPECT_TRUE(integrator.integrate_sequence(map, {}).empty());
+  EXPECT_TRUE(map.blocks().empty());
+}
+
+// A bad scan in the middle: the error names the scan and what is wrong, and
+// the map holds the scans before it, fully, and nothing of it or after it.
+TEST(RayIntegratorSequence, ErrorInOneScanKeepsExactlyTheScansBeforeIt) {
+  for (const bool bad_origin : {false, true}) {
+    for (const int threads : {1, 2}) {
+      SCOPED_TRACE(::testing::Message() << threads << " threads, bad " << (bad_origin ? "origin" : "label"));
+      std::vector<Scan> scans = room_scans(6, 64, 48);
+      if (bad_origin) {
+        scans[3].origin = {std::nan(""), 0.0, 1.0};
+      } else {
+        scans[3].points.labels()[100] = 7;
+      }
+      tbb::task_arena arena(threads);
+      MetricMap map(settings_at_resolution(0.05)), first_three(settings_at_resolution(0.05));
+      RayIntegrator integrator, reference;
+      arena.execute([&] {
+        try {
+          integrator.integrate_sequence(map, scans);
+          ADD_FAILURE() << "expected an error";
+        } catch (const Error& e) {
+          EXPECT_EQ(e.code(), bad_origin ? ErrorCode::OutOfRange : ErrorCode::InvalidData);
+          const std::string what = e.what();
+          EXPECT_EQ(what.rfind("scan 3: ", 0), 0u) << what;
+          EXPECT_NE(what.find(bad_origin ? "sensor origin" : "point 100 has label 7"), std::string::npos) << what;
+        }
+      });
+      for (int k = 0; k < 3; ++k) reference.integrate(first_three, scans[k].points, scans[k].origin);
+      EXPECT_TRUE(maps_identical(map, first_three));
+      EXPECT_FALSE(map.blocks().empty());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::metric
