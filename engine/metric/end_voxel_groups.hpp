@@ -66,16 +66,15 @@ class LocalEndGroups {
   // Folds point i, whose voxel's packed key (pack()) is key, into a group.
   // Inline: once per point.
   void add(std::uint64_t key, std::size_t i, const ClassSource& source) {
-    Slot& slot = cache_[cache_slot(key)];
-    if (slot.key != key) {  // an empty slot holds kEmptySlot, which no voxel packs to
-      slot.key = key;
-      slot.group = static_cast<std::uint32_t>(keys_.size());
-      const VoxelKey voxel = unpack_voxel(key);
-      keys_.push_back(voxel);
-      observations_.emplace_back();
-      box_.add(voxel);
-    }
-    observe(observations_[slot.group], i, source);
+    observe(observations_[group_of(key)], i, source);
+  }
+  // add() for a source without scores, given the point's hard label (0
+  // without labels). Inline: once per point, the common case, with nothing
+  // of the source to re-read after each counter store.
+  void add_labelled(std::uint64_t key, std::uint8_t label) {
+    ClassObservation& obs = observations_[group_of(key)];
+    ++obs.points;
+    if (obs.counts[label] < 0xffff) ++obs.counts[label];
   }
 
   const std::vector<VoxelKey>& keys() const { return keys_; }
@@ -90,6 +89,19 @@ class LocalEndGroups {
     std::uint64_t key = kEmptySlot;
     std::uint32_t group = 0;
   };
+  // The group of a voxel, opened if the cache does not hold it. Inline: once per point.
+  std::uint32_t group_of(std::uint64_t key) {
+    Slot& slot = cache_[cache_slot(key)];
+    if (slot.key != key) {  // an empty slot holds kEmptySlot, which no voxel packs to
+      slot.key = key;
+      slot.group = static_cast<std::uint32_t>(keys_.size());
+      const VoxelKey voxel = unpack_voxel(key);
+      keys_.push_back(voxel);
+      observations_.emplace_back();
+      box_.add(voxel);
+    }
+    return slot.group;
+  }
   // Fibonacci hashing: the top bits of the product depend on every key bit.
   static std::size_t cache_slot(std::uint64_t key) {
     return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ull) >> (64 - kCacheBits));

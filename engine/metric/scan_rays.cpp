@@ -161,6 +161,17 @@ void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolu
       for (std::size_t first = c * kChunkPoints; first < end; first += kKeyBatch) {
         const std::size_t n = std::min(kKeyBatch, end - first);
         kernels::voxel_keys(&xs[first], &ys[first], &zs[first], n, inv_res, kMaxCoordinate, keys, level);
+        if (settings.discretize && class_source.scores.empty()) {
+          const std::uint8_t* const batch_labels = labels.empty() ? nullptr : &labels[first];
+          for (std::size_t j = 0; j < n; ++j) {
+            if (keys[j] == kernels::kRejectedVoxelKey) {  // non-finite or beyond the map limits
+              ++chunk.rejected;
+              continue;
+            }
+            groups.add_labelled(keys[j], batch_labels ? batch_labels[j] : std::uint8_t{0});
+          }
+          continue;
+        }
         for (std::size_t j = 0; j < n; ++j) {
           if (keys[j] == kernels::kRejectedVoxelKey) {  // non-finite or beyond the map limits
             ++chunk.rejected;
