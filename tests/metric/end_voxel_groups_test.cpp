@@ -99,5 +99,33 @@ TEST(EndVoxelGroups, ScoresAreSummedPerVoxelAndTheSameThroughEitherTable) {
   EXPECT_TRUE(ClassSource::of(scan.points, false).scores.empty());
 }
 
+// add_labelled(key, label) is add() for a source without scores: the same
+// groups in the same order and the same counts, with labels and without
+// (class 0), saturating at 0xffff alike.
+TEST(EndVoxelGroups, LabelledPointsFoldLikeAdd) {
+  const CyclingScan scan(1500, 3);
+  for (const bool with_labels : {true, false}) {
+    // Without labels the source is empty and every point counts as class 0.
+    const ClassSource source = with_labels ? ClassSource::of(scan.points, false) : ClassSource{};
+    LocalEndGroups by_add, by_label;
+    for (std::size_t i = 0; i < scan.keys.size(); ++i) {
+      by_add.add(pack(scan.keys[i]), i, source);
+      by_label.add_labelled(pack(scan.keys[i]), with_labels ? scan.points.labels()[i] : std::uint8_t{0});
+    }
+    // One voxel seen 70,000 times: its count saturates.
+    for (std::size_t n = 0; n < 70000; ++n) {
+      by_add.add(pack(VoxelKey{0, 0, 0}), 0, source);
+      by_label.add_labelled(pack(VoxelKey{0, 0, 0}), with_labels ? scan.points.labels()[0] : std::uint8_t{0});
+    }
+    ASSERT_EQ(by_label.keys(), by_add.keys());
+    for (std::size_t g = 0; g < by_add.keys().size(); ++g) {
+      EXPECT_EQ(by_label.observations()[g].points, by_add.observations()[g].points);
+      EXPECT_EQ(by_label.observations()[g].counts, by_add.observations()[g].counts);
+      EXPECT_FALSE(by_label.observations()[g].has_scores);
+    }
+    EXPECT_EQ(by_label.observations().back().counts[with_labels ? scan.points.labels()[0] : 0], 0xffffu);
+  }
+}
+
 }  // namespace
 }  // namespace sarmap::metric
