@@ -162,6 +162,7 @@ void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolu
         const std::size_t n = std::min(kKeyBatch, end - first);
         kernels::voxel_keys(&xs[first], &ys[first], &zs[first], n, inv_res, kMaxCoordinate, keys, level);
         if (settings.discretize && class_source.scores.empty()) {
+          // The common case: no ray per point, hard labels or none (add_labelled).
           const std::uint8_t* const batch_labels = labels.empty() ? nullptr : &labels[first];
           for (std::size_t j = 0; j < n; ++j) {
             if (keys[j] == kernels::kRejectedVoxelKey) {  // non-finite or beyond the map limits
