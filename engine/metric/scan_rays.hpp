@@ -37,9 +37,8 @@ struct ThreadMisses {
   std::size_t visits = 0;
   // A mask per block of the scan's box; valid for this scan only when
   // dense_in_use (a thread that walked no ray has none). All zero between
-  // scans: ScanUpdate clears the blocks it reads, which costs less than
-  // zeroing the whole grid before each walk (a memset of the box per
-  // thread per scan was 4 % of the integrator's time).
+  // scans: ScanUpdate clears the blocks it reads, while they are in cache,
+  // instead of another pass over the whole grid before each walk.
   std::vector<std::uint64_t> dense;
   bool dense_in_use = false;
 
