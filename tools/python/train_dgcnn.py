@@ -23,7 +23,7 @@ import torch.nn.functional as F
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from dgcnn_reference import DGCNNSemSeg, block_features, state_numpy  # noqa: E402
-from export_safetensors import DEFAULT_METADATA, write_safetensors  # noqa: E402
+from export_safetensors import DEFAULT_METADATA, read_safetensors, write_safetensors  # noqa: E402
 
 # Logit index -> sarmap class (engine/core/classes.hpp ids 1..5); id 0 (unknown) is ignored.
 CLASSES = ["terrain", "wall", "inclined_ramp", "flat_ramp", "other"]
@@ -121,6 +121,32 @@ def evaluate(model, blocks, args, z_range):
     return conf
 
 
+def weights_from_model(model, path):
+    """Loads an exported model's weights into `model`; returns its training record for the metadata.
+
+    A shipped .safetensors file is the one trace of a run whose checkpoint is
+    gone, so a new sitting can start from it. The widths must match; the block
+    size and points per block may differ (the network's weights do not depend
+    on them), which is how a model is carried over to larger blocks.
+    """
+    tensors, metadata = read_safetensors(path)
+    state = model.state_dict()
+    for name, array in tensors.items():
+        if name not in state:
+            raise SystemExit(f"{path}: tensor {name} is not in this network (other widths?)")
+        if tuple(state[name].shape) != tuple(array.shape):
+            raise SystemExit(f"{path}: {name} has shape {tuple(array.shape)}, this network {tuple(state[name].shape)}")
+    missing = [n for n in state if n not in tensors and not n.endswith("num_batches_tracked")]
+    if missing:
+        raise SystemExit(f"{path}: lacks {', '.join(missing)}")
+    model.load_state_dict({n: torch.from_numpy(np.array(a)) for n, a in tensors.items()}, strict=False)
+    record = json.loads(metadata.get("sarmap.training", "null")) or {}
+    record["model"] = os.path.basename(path)
+    record["block_size"] = float(metadata.get("sarmap.block_size", "1.0"))
+    record["points_per_block"] = int(metadata.get("sarmap.points_per_block", "0"))
+    return record
+
+
 def save_checkpoint(path, state):
     tmp = path + ".tmp"
     torch.save(state, tmp)
@@ -164,6 +190,9 @@ def train(args):
         epoch, history = state["epoch"], state["history"]
         history_before = state.get("history_before")
         print(f"resuming after epoch {epoch}")
+    elif args.init_from and args.init_from.endswith(".safetensors"):
+        history_before = weights_from_model(model, args.init_from)
+        print(f"starting from the weights of {args.init_from}")
     elif args.init_from:
         # A fresh schedule over weights trained before: a warm restart, e.g.
         # on more arenas. The earlier run's history is kept for the metadata.
@@ -267,7 +296,8 @@ def main(argv):
     tr.add_argument("--ramp-boost", type=float, default=3.0, help="extra draw weight of blocks with ramps/obstacles")
     tr.add_argument("--val-blocks", type=int, default=160)
     tr.add_argument("--threads", type=int, default=1)
-    tr.add_argument("--init-from", help="start from the weights of another run's checkpoint.pt (new schedule)")
+    tr.add_argument("--init-from", help="start from the weights of another run's checkpoint.pt or of an exported "
+                    ".safetensors model (new schedule)")
     ex = sub.add_parser("export", help="write the trained model as .safetensors with sarmap metadata")
     ex.add_argument("--work", required=True)
     ex.add_argument("--out", required=True)
