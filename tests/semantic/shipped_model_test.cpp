@@ -2,7 +2,7 @@
 // fixed scans of a held-out arena (random arena 9001, a seed never used in
 // training), the network alone must keep the per-point accuracy recorded
 // when it was trained, and beat the geometric baseline on the same scans; on
-// a held-out arena with a steeply pitched camera (9002), the steep-surface
+// a held-out arena with a steeply pitched camera (9005), the steep-surface
 // veto must keep the gain it was measured to bring. The figures were
 // measured with this test's own code (see PERF.md, "Classifiers"); the
 // thresholds sit a small margin below.
@@ -22,19 +22,19 @@ namespace sarmap {
 namespace {
 
 constexpr std::uint64_t kHeldOutArena = 9001;
-constexpr std::uint64_t kSteepPitchArena = 9002;  // camera pitched -24.6 degrees
+constexpr std::uint64_t kSteepPitchArena = 9005;  // camera pitched -24.3 degrees
 constexpr std::size_t kScans = 6;  // spread evenly along the trajectory
 
 // Recorded when the model was committed; margins absorb nothing but future
 // changes of sampling order, so they are small.
-constexpr double kRecordedMeanIou = 0.9538;
-constexpr double kRecordedInclinedIou = 0.9058;
-constexpr double kRecordedFlatIou = 0.9624;
-// Arena 9002 with the steep-surface veto, and its gain in mean IoU over the
+constexpr double kRecordedMeanIou = 0.9572;
+constexpr double kRecordedInclinedIou = 0.8940;
+constexpr double kRecordedFlatIou = 0.9690;
+// Arena 9005 with the steep-surface veto, and its gain in mean IoU over the
 // network alone on the same scans.
-constexpr double kRecordedVetoWallIou = 0.8424;
-constexpr double kRecordedVetoInclinedIou = 0.2080;
-constexpr double kRecordedVetoGain = 0.0418;  // 0.7042 -> 0.7460
+constexpr double kRecordedVetoWallIou = 0.8162;
+constexpr double kRecordedVetoInclinedIou = 0.7713;
+constexpr double kRecordedVetoGain = 0.1042;  // 0.7566 -> 0.8608
 constexpr double kMargin = 0.02;
 
 eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& config,
