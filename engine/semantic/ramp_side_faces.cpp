@@ -1,0 +1,127 @@
+#include "engine/semantic/ramp_side_faces.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/semantic/surface_normals.hpp"
+
+namespace sarmap {
+
+namespace {
+
+// Points farther out than this (metres) are neither deck nor side: their
+// columns would not fit the packed key (the metric map rejects them anyway).
+constexpr double kMaxHorizontal = 1.0e6;
+
+// A column of the horizontal grid as one word: two 32-bit column indices.
+std::uint64_t column_key(std::int64_t cx, std::int64_t cy) {
+  constexpr std::int64_t kOffset = std::int64_t{1} << 31;
+  return (static_cast<std::uint64_t>(cx + kOffset) << 32) | static_cast<std::uint64_t>(cy + kOffset);
+}
+
+bool in_reach(double x, double y) { return std::abs(x) <= kMaxHorizontal && std::abs(y) <= kMaxHorizontal; }
+
+}  // namespace
+
+RampDeckMemory::RampDeckMemory(const RampSideSettings& s) : settings_(s) {
+  if (!(s.radius >= 0.01) || !std::isfinite(s.radius)) {
+    throw Error(ErrorCode::InvalidArgument, "ramp side faces: the radius must be at least 0.01 m");
+  }
+  if (!(s.normal_cell >= 0.01) || !std::isfinite(s.normal_cell)) {
+    throw Error(ErrorCode::InvalidArgument, "ramp side faces: the normal cell must be at least 0.01 m");
+  }
+  if (!(s.min_rise >= 0.0 && s.min_rise < s.max_rise) || !std::isfinite(s.max_rise)) {
+    throw Error(ErrorCode::InvalidArgument, "ramp side faces: need 0 <= min_rise < max_rise, got " +
+                                                std::to_string(s.min_rise) + " and " + std::to_string(s.max_rise));
+  }
+  if (!(s.deck_max_slope_deg > 0.0 && s.deck_max_slope_deg <= 90.0)) {
+    throw Error(ErrorCode::InvalidArgument, "ramp side faces: the deck slope must be in (0, 90] degrees, got " +
+                                                std::to_string(s.deck_max_slope_deg));
+  }
+  if (!(s.deck_max_curvature >= 0.0)) {
+    throw Error(ErrorCode::InvalidArgument, "ramp side faces: the deck curvature limit must be >= 0");
+  }
+}
+
+void RampDeckMemory::remember_decks(const PointBuffer& points) {
+  const auto inclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
+  const auto labels = points.labels();
+  if (std::find(labels.begin(), labels.end(), inclined) == labels.end()) return;
+  SurfaceNormalSettings fit;
+  fit.cell = settings_.normal_cell;
+  fit.min_points = settings_.min_points;
+  const SurfaceNormals normals = estimate_surface_normals(points, fit);
+  const double min_nz = std::cos(settings_.deck_max_slope_deg * std::numbers::pi / 180.0);
+  const double inv = 1.0 / settings_.radius;
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != inclined || normals.valid[p] == 0 || !(normals.nz[p] >= min_nz) ||
+        !(normals.curvature[p] <= settings_.deck_max_curvature) || !in_reach(xs[p], ys[p])) {
+      continue;
+    }
+    const std::uint64_t key = column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
+                                         static_cast<std::int64_t>(std::floor(ys[p] * inv)));
+    const auto [it, added] = columns_.try_emplace(key, HeightSpan{zs[p], zs[p]});
+    if (!added) {
+      it->second.low = std::min(it->second.low, zs[p]);
+      it->second.high = std::max(it->second.high, zs[p]);
+    }
+  }
+}
+
+// Deck in the 3 x 3 columns around (x, y) (each a radius wide, so every
+// point within the radius is among them) whose height span reaches into
+// (z + min_rise, z + max_rise]. Coarser than the radius by up to twice, and
+// a column's span stands for all its points: cheap, and the rises are loose.
+bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
+  const double inv = 1.0 / settings_.radius;
+  const auto cx = static_cast<std::int64_t>(std::floor(x * inv)), cy = static_cast<std::int64_t>(std::floor(y * inv));
+  for (std::int64_t dx = -1; dx <= 1; ++dx) {
+    for (std::int64_t dy = -1; dy <= 1; ++dy) {
+      const auto it = columns_.find(column_key(cx + dx, cy + dy));
+      if (it == columns_.end()) continue;
+      if (it->second.high > z + settings_.min_rise && it->second.low <= z + settings_.max_rise) return true;
+    }
+  }
+  return false;
+}
+
+std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
+  if (!settings_.enabled || !points.has_labels()) return 0;
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  for (std::size_t p = 0; p < points.size(); ++p) {  // refused whether or not the scan shows a deck
+    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
+      throw Error(ErrorCode::InvalidArgument, "ramp side faces: point " + std::to_string(p) + " is not finite");
+    }
+  }
+  remember_decks(points);
+  if (columns_.empty()) return 0;
+  const auto inclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
+  const auto wall = static_cast<std::uint8_t>(ClassId::Wall);
+  const auto labels = points.labels();
+  const std::size_t channels = points.score_count();
+  const std::size_t wall_score = points.find_score("wall"), ramp_score = points.find_score("inclined_ramp");
+  const bool scored = wall_score < channels && ramp_score < channels;
+  std::size_t changed = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != wall || !in_reach(xs[p], ys[p]) || !under_a_deck(xs[p], ys[p], zs[p])) continue;
+    labels[p] = inclined;
+    if (scored) {
+      points.score(ramp_score)[p] += points.score(wall_score)[p];
+      points.score(wall_score)[p] = 0.0f;
+    }
+    ++changed;
+  }
+  return changed;
+}
+
+std::size_t label_ramp_side_faces(PointBuffer& points, const RampSideSettings& settings) {
+  RampDeckMemory memory(settings);
+  return memory.label_side_faces(points);
+}
+
+}  // namespace sarmap
