@@ -18,7 +18,7 @@ std::size_t count_unknown(const PointBuffer& points) {
 class LabelsClassifier final : public PointClassifier {
  public:
   std::string_view name() const override { return "labels"; }
-  ClassifyCounts classify(PointBuffer& points) const override {
+  ClassifyCounts classify(PointBuffer& points) override {
     if (!points.has_labels() && !points.empty()) {
       throw Error(ErrorCode::InvalidData, "the input has no label property, which --classifier labels needs");
     }
@@ -32,7 +32,7 @@ class GeometricPointClassifier final : public PointClassifier {
  public:
   explicit GeometricPointClassifier(const GeometricClassifierSettings& settings) : classifier_(settings) {}
   std::string_view name() const override { return "geometric"; }
-  ClassifyCounts classify(PointBuffer& points) const override {
+  ClassifyCounts classify(PointBuffer& points) override {
     classifier_.classify(points);
     ClassifyCounts counts;
     counts.unlabelled = count_unknown(points);
@@ -45,14 +45,16 @@ class GeometricPointClassifier final : public PointClassifier {
 
 class DgcnnPointClassifier final : public PointClassifier {
  public:
-  DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings)
-      : model_(DgcnnModel::load(model)), classifier_(model_, settings) {}
+  DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings,
+                       const RampSideSettings& ramp_sides)
+      : model_(DgcnnModel::load(model)), classifier_(model_, settings), ramp_decks_(ramp_sides) {}
   std::string_view name() const override { return "dgcnn"; }
-  ClassifyCounts classify(PointBuffer& points) const override {
+  ClassifyCounts classify(PointBuffer& points) override {
     const DgcnnClassifyStats stats = classifier_.classify(points);
     ClassifyCounts counts;
     counts.blocks = stats.blocks;
     counts.vetoed = stats.vetoed_points;
+    counts.ramp_sides = ramp_decks_.label_side_faces(points);
     counts.unlabelled = count_unknown(points);
     return counts;
   }
@@ -60,6 +62,7 @@ class DgcnnPointClassifier final : public PointClassifier {
  private:
   DgcnnModel model_;  // declared before classifier_, which keeps a reference to it
   DgcnnClassifier classifier_;
+  RampDeckMemory ramp_decks_;  // the ramp decks of every scan so far
 };
 
 }  // namespace
@@ -71,7 +74,7 @@ std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& c
     if (config.model.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
     }
-    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn);
+    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.ramp_sides);
   }
   throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.kind +
                                               "\": choose dgcnn (the network), geometric (the normal-based "

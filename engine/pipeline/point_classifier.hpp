@@ -14,6 +14,7 @@
 #include "engine/core/point_buffer.hpp"
 #include "engine/semantic/dgcnn_classifier.hpp"
 #include "engine/semantic/geometric_classifier.hpp"
+#include "engine/semantic/ramp_side_faces.hpp"
 
 namespace sarmap::pipeline {
 
@@ -21,6 +22,9 @@ struct ClassifierConfig {
   std::string kind = "dgcnn";  // dgcnn | geometric | labels
   std::filesystem::path model;  // dgcnn only; required for it
   DgcnnClassifierSettings dgcnn;
+  // dgcnn: after the network and its veto, wall labels under a ramp deck
+  // seen in this scan or an earlier one become inclined ramp.
+  RampSideSettings ramp_sides;
   GeometricClassifierSettings geometric;
 };
 
@@ -29,6 +33,7 @@ struct ClassifyCounts {
   std::size_t blocks = 0;          // dgcnn blocks run
   std::size_t unlabelled = 0;      // points left unknown (sparse blocks, far points)
   std::size_t vetoed = 0;          // dgcnn inclined-ramp labels on steep surfaces, relabelled
+  std::size_t ramp_sides = 0;      // dgcnn wall labels under a ramp deck, relabelled inclined ramp
 };
 
 class PointClassifier {
@@ -37,7 +42,8 @@ class PointClassifier {
   virtual std::string_view name() const = 0;
   // Sets points.labels() to predicted class ids (and per-class scores where the
   // classifier has them). Throws sarmap::Error naming what the input lacks.
-  virtual ClassifyCounts classify(PointBuffer& points) const = 0;
+  // Not const: a classifier may remember what earlier scans of the sequence showed.
+  virtual ClassifyCounts classify(PointBuffer& points) = 0;
 };
 
 // Throws sarmap::Error: InvalidArgument for an unknown kind or a dgcnn without

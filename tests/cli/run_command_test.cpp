@@ -212,17 +212,21 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
 // the manifest records which, and the profile counts what it changed
 // (nothing when off). (What it changes is tested on real planes in
 // tests/semantic; this input is too small to hold a surface.)
-TEST_F(RunCommand, NoRampVetoIsRecordedAndCounted) {
+TEST_F(RunCommand, NoRampVetoAndNoRampSidesAreRecordedAndCounted) {
   auto r = run_dgcnn("", dir_ / "veto");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_dgcnn(" --no-ramp-veto", dir_ / "plain");
+  r = run_dgcnn(" --no-ramp-veto --no-ramp-sides", dir_ / "plain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
   EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_sides").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_sides").get<bool>());
   for (const char* run : {"veto", "plain"}) {
-    EXPECT_EQ(json_of(dir_ / run / "profile.json").at("stages").at("classify").at("ramp_vetoed").get<double>(), 0.0)
-        << run;
+    const auto classify = json_of(dir_ / run / "profile.json").at("stages").at("classify");
+    EXPECT_EQ(classify.at("ramp_vetoed").get<double>(), 0.0) << run;
+    EXPECT_TRUE(classify.contains("ramp_sides")) << run;
   }
+  EXPECT_EQ(json_of(dir_ / "plain" / "profile.json").at("stages").at("classify").at("ramp_sides").get<double>(), 0.0);
 }
 
 // Map bounds from the command line: the saved map holds no more blocks than

@@ -3,7 +3,9 @@
 // training), the network alone must keep the per-point accuracy recorded
 // when it was trained, and beat the geometric baseline on the same scans; on
 // a held-out arena with a steeply pitched camera (9005), the steep-surface
-// veto must keep the gain it was measured to bring. The figures were
+// veto must keep the gain it was measured to bring; on 9003, relabelling
+// ramp side faces (tests/semantic/ramp_side_faces_test.cpp) must keep its
+// gain on inclined ramps. The figures were
 // measured with this test's own code (see PERF.md, "Classifiers"); the
 // thresholds sit a small margin below.
 #include <gtest/gtest.h>
@@ -23,6 +25,7 @@ namespace {
 
 constexpr std::uint64_t kHeldOutArena = 9001;
 constexpr std::uint64_t kSteepPitchArena = 9005;  // camera pitched -24.3 degrees
+constexpr std::uint64_t kRampSideArena = 9003;    // ramps seen side-on
 constexpr std::size_t kScans = 6;  // spread evenly along the trajectory
 
 // Recorded when the model was committed; margins absorb nothing but future
@@ -35,6 +38,10 @@ constexpr double kRecordedFlatIou = 0.9690;
 constexpr double kRecordedVetoWallIou = 0.8162;
 constexpr double kRecordedVetoInclinedIou = 0.7713;
 constexpr double kRecordedVetoGain = 0.1042;  // 0.7566 -> 0.8608
+// Arena 9003 (veto on) with the ramp side faces relabelled, and their gain
+// in inclined-ramp IoU over the same run without.
+constexpr double kRecordedSidesInclinedIou = 0.9199;
+constexpr double kRecordedSidesInclinedGain = 0.1236;  // 0.7963 -> 0.9199
 constexpr double kMargin = 0.02;
 
 eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& config,
@@ -65,10 +72,11 @@ void print_figures(const char* name, const eval::ConfusionMatrix& c) {
               c.iou(ClassId::FlatRamp).value_or(0));
 }
 
-pipeline::ClassifierConfig shipped_model(bool ramp_veto) {
+pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false) {
   pipeline::ClassifierConfig dgcnn;
   dgcnn.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
   dgcnn.dgcnn.ramp_veto.enabled = ramp_veto;
+  dgcnn.ramp_sides.enabled = ramp_sides;
   return dgcnn;
 }
 
@@ -96,6 +104,17 @@ TEST(ShippedModel, SteepSurfaceVetoKeepsFarWallBandsWallsUnderASteepCamera) {
   EXPECT_GE(vetoed.iou(ClassId::Wall).value(), kRecordedVetoWallIou - kMargin);
   EXPECT_GE(vetoed.iou(ClassId::InclinedRamp).value(), kRecordedVetoInclinedIou - kMargin);
   EXPECT_GT(vetoed.mean_iou().value(), net.mean_iou().value() + kRecordedVetoGain - kMargin);
+}
+
+TEST(ShippedModel, RampSideFacesTurnWallLabelsUnderRampDecksIntoRamp) {
+  const eval::ConfusionMatrix vetoed = classify_held_out_scans(shipped_model(true), kRampSideArena);
+  const eval::ConfusionMatrix sides = classify_held_out_scans(shipped_model(true, true), kRampSideArena);
+  print_figures("dgcnn + veto", vetoed);
+  print_figures("dgcnn + veto + sides", sides);
+  EXPECT_GE(sides.iou(ClassId::InclinedRamp).value(), kRecordedSidesInclinedIou - kMargin);
+  EXPECT_GT(sides.iou(ClassId::InclinedRamp).value(),
+            vetoed.iou(ClassId::InclinedRamp).value() + kRecordedSidesInclinedGain - kMargin);
+  EXPECT_GE(sides.iou(ClassId::Wall).value(), vetoed.iou(ClassId::Wall).value());  // walls lose nothing
 }
 
 }  // namespace

@@ -54,10 +54,10 @@ def simulate(sarmap, work, name, arena_json, seed, every):
 
 
 def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, ramp_veto,
-             threads):
+             ramp_sides, threads):
     suffix = ""
     if classifier == "dgcnn":
-        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto")
+        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto") + ("" if ramp_sides else "-nosides")
     out = os.path.join(work, name, classifier + suffix)
     cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
     if classifier == "dgcnn" and model:
@@ -68,6 +68,8 @@ def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_bloc
         cmd += ["--block-stride", str(block_stride)]
     if classifier == "dgcnn" and not ramp_veto:
         cmd += ["--no-ramp-veto"]
+    if classifier == "dgcnn" and not ramp_sides:
+        cmd += ["--no-ramp-sides"]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
     with open(os.path.join(out, "profile.json")) as f:
@@ -111,6 +113,8 @@ def main(argv):
     parser.add_argument("--block-stride", type=float, help="passed to sarmap run: overlapping DGCNN blocks")
     parser.add_argument("--no-ramp-veto", action="store_true",
                         help="passed to sarmap run: keep the network's inclined-ramp labels on steep surfaces")
+    parser.add_argument("--no-ramp-sides", action="store_true",
+                        help="passed to sarmap run: keep the network's wall labels on ramp side faces")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args(argv)
@@ -125,7 +129,7 @@ def main(argv):
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
                                         args.min_block_points, args.block_stride, not args.no_ramp_veto,
-                                        args.threads)
+                                        not args.no_ramp_sides, args.threads)
             totals[classifier] += conf
             rows.append((name, classifier, ious(conf), classify_s))
             print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)

@@ -24,6 +24,7 @@ struct RunOptions {
   std::size_t min_block_points = 100;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = the model's block size
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
+  bool ramp_sides = true;     // wall labels under a ramp deck (this scan or earlier) become inclined ramp
   int threads = 0;
   double max_range = 0.0;
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
