@@ -1,0 +1,136 @@
+#include "engine/semantic/wall_bands.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+
+namespace sarmap {
+
+namespace {
+
+// Points farther out than this (metres) are left alone: their columns would
+// not fit the packed key (the metric map rejects them anyway).
+constexpr double kMaxHorizontal = 1.0e6;
+constexpr std::int64_t kOffset = std::int64_t{1} << 31;
+
+std::uint64_t column_key(std::int64_t cx, std::int64_t cy) {
+  return (static_cast<std::uint64_t>(cx + kOffset) << 32) | static_cast<std::uint64_t>(cy + kOffset);
+}
+
+struct Column {
+  std::int64_t cx, cy;
+};
+
+// The extent, in columns, of a patch along its principal axis (the
+// covariance of the column centres: a patch at 45 degrees measures its
+// length, not its bounding box).
+double principal_extent(const std::vector<Column>& patch) {
+  const double n = static_cast<double>(patch.size());
+  double mx = 0, my = 0;
+  for (const Column& c : patch) mx += static_cast<double>(c.cx), my += static_cast<double>(c.cy);
+  mx /= n, my /= n;
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const Column& c : patch) {
+    const double dx = static_cast<double>(c.cx) - mx, dy = static_cast<double>(c.cy) - my;
+    sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+  }
+  const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+  const double ux = std::cos(angle), uy = std::sin(angle);
+  double low = 0, high = 0;
+  for (const Column& c : patch) {
+    const double along = (static_cast<double>(c.cx) - mx) * ux + (static_cast<double>(c.cy) - my) * uy;
+    low = std::min(low, along), high = std::max(high, along);
+  }
+  return high - low + 1.0;  // centre to centre, plus one column
+}
+
+}  // namespace
+
+void validate(const WallBandSettings& s) {
+  if (!(s.column >= 0.01) || !std::isfinite(s.column)) {
+    throw Error(ErrorCode::InvalidArgument, "wall bands: the column must be at least 0.01 m");
+  }
+  if (!(s.min_length > 0.0) || !std::isfinite(s.min_length)) {
+    throw Error(ErrorCode::InvalidArgument, "wall bands: the length must be positive, got " +
+                                                std::to_string(s.min_length));
+  }
+}
+
+std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
+  validate(s);
+  if (!s.enabled || !points.has_labels()) return 0;
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
+      throw Error(ErrorCode::InvalidArgument, "wall bands: point " + std::to_string(p) + " is not finite");
+    }
+  }
+  const auto other = static_cast<std::uint8_t>(ClassId::Other);
+  const auto labels = points.labels();
+  const double inv = 1.0 / s.column;
+  const auto in_reach = [](double x, double y) { return std::abs(x) <= kMaxHorizontal && std::abs(y) <= kMaxHorizontal; };
+
+  // Columns holding other, each marked once its patch is judged: 1 = wall.
+  std::unordered_map<std::uint64_t, std::int8_t> columns;  // -1 unjudged, 0 box-sized, 1 wall
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
+    columns.try_emplace(column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
+                                   static_cast<std::int64_t>(std::floor(ys[p] * inv))),
+                        std::int8_t{-1});
+  }
+  std::vector<Column> patch;
+  std::vector<std::uint64_t> keys;
+  std::size_t wall_columns = 0;
+  for (auto& [start, verdict] : columns) {
+    if (verdict >= 0) continue;
+    patch.clear(), keys.clear();
+    verdict = 0;
+    keys.push_back(start);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      const std::int64_t cx = static_cast<std::int64_t>(keys[i] >> 32) - kOffset;
+      const std::int64_t cy = static_cast<std::int64_t>(keys[i] & 0xffffffffu) - kOffset;
+      patch.push_back({cx, cy});
+      for (std::int64_t dx = -1; dx <= 1; ++dx) {
+        for (std::int64_t dy = -1; dy <= 1; ++dy) {
+          const auto it = columns.find(column_key(cx + dx, cy + dy));
+          if (it == columns.end() || it->second >= 0) continue;
+          it->second = 0;
+          keys.push_back(it->first);
+        }
+      }
+    }
+    if (principal_extent(patch) * s.column >= s.min_length) {
+      for (std::uint64_t k : keys) columns[k] = 1;
+      wall_columns += keys.size();
+    }
+  }
+  if (wall_columns == 0) return 0;
+
+  const auto wall = static_cast<std::uint8_t>(ClassId::Wall);
+  const std::size_t channels = points.score_count();
+  const std::size_t other_score = points.find_score("other"), wall_score = points.find_score("wall");
+  const bool scored = other_score < channels && wall_score < channels;
+  std::size_t changed = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
+    const auto it = columns.find(column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
+                                            static_cast<std::int64_t>(std::floor(ys[p] * inv))));
+    if (it->second != 1) continue;
+    labels[p] = wall;
+    if (scored) {
+      points.score(wall_score)[p] += points.score(other_score)[p];
+      points.score(other_score)[p] = 0.0f;
+    }
+    ++changed;
+  }
+  return changed;
+}
+
+}  // namespace sarmap
