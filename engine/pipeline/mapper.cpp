@@ -63,6 +63,7 @@ void Mapper::integrate(Scan& scan) {
       profile_.add_count("classify", "blocks", static_cast<double>(counts.blocks));
       profile_.add_count("classify", "unlabelled", static_cast<double>(counts.unlabelled));
       profile_.add_count("classify", "ramp_vetoed", static_cast<double>(counts.vetoed));
+      profile_.add_count("classify", "wall_bands", static_cast<double>(counts.wall_bands));
       profile_.add_count("classify", "ramp_sides", static_cast<double>(counts.ramp_sides));
     } catch (const Error& e) {
       throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());

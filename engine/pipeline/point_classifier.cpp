@@ -46,14 +46,22 @@ class GeometricPointClassifier final : public PointClassifier {
 class DgcnnPointClassifier final : public PointClassifier {
  public:
   DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings,
-                       const RampSideSettings& ramp_sides)
-      : model_(DgcnnModel::load(model)), classifier_(model_, settings), ramp_decks_(ramp_sides) {}
+                       const WallBandSettings& wall_bands, const RampSideSettings& ramp_sides)
+      : model_(DgcnnModel::load(model)),
+        classifier_(model_, settings),
+        wall_bands_(wall_bands),
+        ramp_decks_(ramp_sides) {
+    validate(wall_bands_);
+  }
   std::string_view name() const override { return "dgcnn"; }
   ClassifyCounts classify(PointBuffer& points) override {
     const DgcnnClassifyStats stats = classifier_.classify(points);
     ClassifyCounts counts;
     counts.blocks = stats.blocks;
     counts.vetoed = stats.vetoed_points;
+    // Wall bands first: a ramp's side the network called other, once wall,
+    // is then found under its deck.
+    counts.wall_bands = label_wall_bands(points, wall_bands_);
     counts.ramp_sides = ramp_decks_.label_side_faces(points);
     counts.unlabelled = count_unknown(points);
     return counts;
@@ -62,6 +70,7 @@ class DgcnnPointClassifier final : public PointClassifier {
  private:
   DgcnnModel model_;  // declared before classifier_, which keeps a reference to it
   DgcnnClassifier classifier_;
+  WallBandSettings wall_bands_;
   RampDeckMemory ramp_decks_;  // the ramp decks of every scan so far
 };
 
@@ -74,7 +83,7 @@ std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& c
     if (config.model.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
     }
-    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.ramp_sides);
+    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands, config.ramp_sides);
   }
   throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.kind +
                                               "\": choose dgcnn (the network), geometric (the normal-based "

@@ -5,7 +5,8 @@
 // a held-out arena with a steeply pitched camera (9005), the steep-surface
 // veto must keep the gain it was measured to bring; on 9003, relabelling
 // ramp side faces (tests/semantic/ramp_side_faces_test.cpp) must keep its
-// gain on inclined ramps. The figures were
+// gain on inclined ramps, and on 9005's first frames the wall bands rule
+// (tests/semantic/wall_bands_test.cpp) its gain on walls. The figures were
 // measured with this test's own code (see PERF.md, "Classifiers"); the
 // thresholds sit a small margin below.
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 #include "engine/core/classes.hpp"
 #include "engine/eval/point_evaluation.hpp"
@@ -42,18 +44,23 @@ constexpr double kRecordedVetoGain = 0.1042;  // 0.7566 -> 0.8608
 // in inclined-ramp IoU over the same run without.
 constexpr double kRecordedSidesInclinedIou = 0.9199;
 constexpr double kRecordedSidesInclinedGain = 0.1236;  // 0.7963 -> 0.9199
+// Arena 9005's first frames (the robot faces a long wall, only its lowest
+// band in view, which the network calls other) with the wall bands rule,
+// and its gain in wall IoU over the same frames without.
+const std::vector<std::size_t> kFirstFrames{0, 4, 8};
+constexpr double kRecordedBandsWallIou = 0.9461;
+constexpr double kRecordedBandsWallGain = 0.7151;  // 0.2310 -> 0.9461
 constexpr double kMargin = 0.02;
 
-eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& config,
-                                              std::uint64_t arena_seed = kHeldOutArena) {
-  const sim::Arena arena = sim::random_arena(arena_seed);
+// The given frames of a held-out arena, classified in order by one classifier.
+eval::ConfusionMatrix classify_frames(const pipeline::ClassifierConfig& config, std::uint64_t arena_seed,
+                                      const std::vector<std::size_t>& frames) {
   sim::SimulationOptions options;
   options.seed = 7;
-  const sim::Simulator simulator(arena, options);
+  const sim::Simulator simulator(sim::random_arena(arena_seed), options);
   const auto classifier = pipeline::make_point_classifier(config);
   eval::ConfusionMatrix confusion;
-  for (std::size_t i = 0; i < kScans; ++i) {
-    const std::size_t frame = (2 * i + 1) * simulator.frame_count() / (2 * kScans);
+  for (const std::size_t frame : frames) {
     Scan scan = simulator.simulate(frame);
     PointBuffer& points = scan.points;
     points.enable_gt_labels();
@@ -65,6 +72,17 @@ eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& 
   return confusion;
 }
 
+// kScans frames spread evenly along the trajectory.
+eval::ConfusionMatrix classify_held_out_scans(const pipeline::ClassifierConfig& config,
+                                              std::uint64_t arena_seed = kHeldOutArena) {
+  sim::SimulationOptions options;
+  options.seed = 7;
+  const sim::Simulator simulator(sim::random_arena(arena_seed), options);
+  std::vector<std::size_t> frames;
+  for (std::size_t i = 0; i < kScans; ++i) frames.push_back((2 * i + 1) * simulator.frame_count() / (2 * kScans));
+  return classify_frames(config, arena_seed, frames);
+}
+
 void print_figures(const char* name, const eval::ConfusionMatrix& c) {
   std::printf("%s: accuracy %.4f, mean IoU %.4f, terrain %.4f, wall %.4f, inclined %.4f, flat %.4f\n", name,
               c.accuracy().value_or(0), c.mean_iou().value_or(0), c.iou(ClassId::Terrain).value_or(0),
@@ -72,11 +90,12 @@ void print_figures(const char* name, const eval::ConfusionMatrix& c) {
               c.iou(ClassId::FlatRamp).value_or(0));
 }
 
-pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false) {
+pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false, bool wall_bands = false) {
   pipeline::ClassifierConfig dgcnn;
   dgcnn.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
   dgcnn.dgcnn.ramp_veto.enabled = ramp_veto;
   dgcnn.ramp_sides.enabled = ramp_sides;
+  dgcnn.wall_bands.enabled = wall_bands;
   return dgcnn;
 }
 
@@ -115,6 +134,17 @@ TEST(ShippedModel, RampSideFacesTurnWallLabelsUnderRampDecksIntoRamp) {
   EXPECT_GT(sides.iou(ClassId::InclinedRamp).value(),
             vetoed.iou(ClassId::InclinedRamp).value() + kRecordedSidesInclinedGain - kMargin);
   EXPECT_GE(sides.iou(ClassId::Wall).value(), vetoed.iou(ClassId::Wall).value());  // walls lose nothing
+}
+
+TEST(ShippedModel, WallBandsTurnALongWallTheNetworkCalledOtherIntoWall) {
+  const eval::ConfusionMatrix before = classify_frames(shipped_model(true, true), kSteepPitchArena, kFirstFrames);
+  const eval::ConfusionMatrix after = classify_frames(shipped_model(true, true, true), kSteepPitchArena, kFirstFrames);
+  print_figures("dgcnn + veto + sides", before);
+  print_figures("dgcnn + veto + sides + bands", after);
+  EXPECT_GE(after.iou(ClassId::Wall).value(), kRecordedBandsWallIou - kMargin);
+  EXPECT_GT(after.iou(ClassId::Wall).value(), before.iou(ClassId::Wall).value() + kRecordedBandsWallGain - kMargin);
+  // Nothing else moves: the rule only turns other into wall.
+  EXPECT_DOUBLE_EQ(after.iou(ClassId::InclinedRamp).value(), before.iou(ClassId::InclinedRamp).value());
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "engine/semantic/dgcnn_classifier.hpp"
 #include "engine/semantic/dgcnn_model.hpp"
 #include "engine/semantic/ramp_side_faces.hpp"
+#include "engine/semantic/wall_bands.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
@@ -38,6 +39,7 @@ struct ClassifyOptions {
   std::size_t min_points = 500;
   std::uint64_t seed = 1;
   bool ramp_veto = true;
+  bool wall_bands = true;
   bool ramp_sides = true;
   std::string raw_block;
   std::string model;
@@ -110,13 +112,18 @@ void run_cloud(const ClassifyOptions& o) {
     std::copy(points.labels().begin(), points.labels().end(), points.gt_labels().begin());
   }
   const DgcnnClassifyStats stats = classifier.classify(points);
+  WallBandSettings bands;
+  bands.enabled = o.wall_bands;
+  const std::size_t band_points = label_wall_bands(points, bands);
   RampSideSettings sides;
   sides.enabled = o.ramp_sides;
   const std::size_t side_points = label_ramp_side_faces(points, sides);  // this frame's decks only
   write_point_cloud(o.out, points);
   std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown; "
-              "%zu inclined-ramp labels on steep surfaces changed; %zu wall labels under a ramp deck changed\n",
-              points.size(), stats.blocks, stats.dropped_points, o.min_points, stats.vetoed_points, side_points);
+              "%zu inclined-ramp labels on steep surfaces changed; %zu other labels on wall bands changed; "
+              "%zu wall labels under a ramp deck changed\n",
+              points.size(), stats.blocks, stats.dropped_points, o.min_points, stats.vetoed_points, band_points,
+              side_points);
 }
 
 }  // namespace
@@ -133,6 +140,8 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)");
   cmd->add_flag("!--no-ramp-veto", options->ramp_veto,
                 "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
+  cmd->add_flag("!--no-wall-bands", options->wall_bands,
+                "Keep other labels on long surfaces (by default, a patch labelled other 1 m or longer becomes wall)");
   cmd->add_flag("!--no-ramp-sides", options->ramp_sides,
                 "Keep wall labels on ramp side faces (by default, wall points with ramp deck 3-100 cm above "
                 "them within 15 cm become inclined ramp; one frame sees fewer decks than `sarmap run`'s sequence)");

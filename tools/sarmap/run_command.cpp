@@ -50,6 +50,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   if (o.block_stride < 0) throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be >= 0");
   config.classifier.dgcnn.stride = o.block_stride;
   config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
+  config.classifier.wall_bands.enabled = o.wall_bands;
   config.classifier.ramp_sides.enabled = o.ramp_sides;
   if (o.classifier == "dgcnn") {
     config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
@@ -95,6 +96,7 @@ RunSummary run_pipeline(const RunOptions& o) {
     manifest["settings"]["min_block_points"] = o.min_block_points;
     manifest["settings"]["block_stride"] = o.block_stride;
     manifest["settings"]["ramp_veto"] = o.ramp_veto;
+    manifest["settings"]["wall_bands"] = o.wall_bands;
     manifest["settings"]["ramp_sides"] = o.ramp_sides;
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
@@ -154,6 +156,9 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("!--no-ramp-veto", o->ramp_veto,
                "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
                "inclined ramp on a surface steeper than 60 degrees become wall or other)");
+  cmd->add_flag("!--no-wall-bands", o->wall_bands,
+               "Keep the network's other labels on long surfaces (by default, a patch of points labelled "
+               "other that runs on for 1 m or more, longer than any box, becomes wall)");
   cmd->add_flag("!--no-ramp-sides", o->ramp_sides,
                "Keep the network's wall labels on ramp side faces (by default, points labelled wall with "
                "ramp deck seen 3-100 cm above them within 15 cm, in this scan or an earlier one, become "

@@ -24,6 +24,7 @@ struct RunOptions {
   std::size_t min_block_points = 100;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = the model's block size
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
+  bool wall_bands = true;     // patches labelled other longer than 1 m become wall
   bool ramp_sides = true;     // wall labels under a ramp deck (this scan or earlier) become inclined ramp
   int threads = 0;
   double max_range = 0.0;
