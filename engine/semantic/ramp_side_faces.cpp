@@ -7,25 +7,13 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/semantic/class_move.hpp"
+#include "engine/semantic/horizontal_columns.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {
 
-namespace {
-
-// Points farther out than this (metres) are neither deck nor side: their
-// columns would not fit the packed key (the metric map rejects them anyway).
-constexpr double kMaxHorizontal = 1.0e6;
-
-// A column of the horizontal grid as one word: two 32-bit column indices.
-std::uint64_t column_key(std::int64_t cx, std::int64_t cy) {
-  constexpr std::int64_t kOffset = std::int64_t{1} << 31;
-  return (static_cast<std::uint64_t>(cx + kOffset) << 32) | static_cast<std::uint64_t>(cy + kOffset);
-}
-
-bool in_reach(double x, double y) { return std::abs(x) <= kMaxHorizontal && std::abs(y) <= kMaxHorizontal; }
-
-}  // namespace
+using horizontal_columns::in_reach;
 
 RampDeckMemory::RampDeckMemory(const RampSideSettings& s) : settings_(s) {
   if (!(s.radius >= 0.01) || !std::isfinite(s.radius)) {
@@ -63,9 +51,7 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
         !(normals.curvature[p] <= settings_.deck_max_curvature) || !in_reach(xs[p], ys[p])) {
       continue;
     }
-    const std::uint64_t key = column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
-                                         static_cast<std::int64_t>(std::floor(ys[p] * inv)));
-    const auto [it, added] = columns_.try_emplace(key, HeightSpan{zs[p], zs[p]});
+    const auto [it, added] = columns_.try_emplace(horizontal_columns::key_of(xs[p], ys[p], inv), HeightSpan{zs[p], zs[p]});
     if (!added) {
       it->second.low = std::min(it->second.low, zs[p]);
       it->second.high = std::max(it->second.high, zs[p]);
@@ -79,10 +65,10 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
 // a column's span stands for all its points: cheap, and the rises are loose.
 bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
   const double inv = 1.0 / settings_.radius;
-  const auto cx = static_cast<std::int64_t>(std::floor(x * inv)), cy = static_cast<std::int64_t>(std::floor(y * inv));
+  const std::int64_t cx = horizontal_columns::index(x, inv), cy = horizontal_columns::index(y, inv);
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
-      const auto it = columns_.find(column_key(cx + dx, cy + dy));
+      const auto it = columns_.find(horizontal_columns::key(cx + dx, cy + dy));
       if (it == columns_.end()) continue;
       if (it->second.high > z + settings_.min_rise && it->second.low <= z + settings_.max_rise) return true;
     }
@@ -100,20 +86,13 @@ std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
   }
   remember_decks(points);
   if (columns_.empty()) return 0;
-  const auto inclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
   const auto wall = static_cast<std::uint8_t>(ClassId::Wall);
   const auto labels = points.labels();
-  const std::size_t channels = points.score_count();
-  const std::size_t wall_score = points.find_score("wall"), ramp_score = points.find_score("inclined_ramp");
-  const bool scored = wall_score < channels && ramp_score < channels;
+  ClassMove to_ramp(points, ClassId::Wall, ClassId::InclinedRamp);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != wall || !in_reach(xs[p], ys[p]) || !under_a_deck(xs[p], ys[p], zs[p])) continue;
-    labels[p] = inclined;
-    if (scored) {
-      points.score(ramp_score)[p] += points.score(wall_score)[p];
-      points.score(wall_score)[p] = 0.0f;
-    }
+    to_ramp.apply(p);
     ++changed;
   }
   return changed;

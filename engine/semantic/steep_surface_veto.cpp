@@ -8,6 +8,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/semantic/class_move.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {
@@ -36,22 +37,15 @@ std::size_t veto_steep_inclined_ramps(PointBuffer& points, const SteepSurfaceVet
 
   const double max_nz = std::cos(settings.min_slope_deg * std::numbers::pi / 180.0);
   const std::size_t channels = points.score_count();
-  const std::size_t wall = points.find_score("wall"), other = points.find_score("other"),
-                    ramp = points.find_score("inclined_ramp");
+  const std::size_t wall = points.find_score("wall"), other = points.find_score("other");
   const bool scored = wall < channels && other < channels;
+  ClassMove to_wall(points, ClassId::InclinedRamp, ClassId::Wall);
+  ClassMove to_other(points, ClassId::InclinedRamp, ClassId::Other);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != inclined || normals.valid[p] == 0 || !(normals.nz[p] <= max_nz)) continue;
     const bool other_wins = scored && points.score(other)[p] > points.score(wall)[p];
-    labels[p] = static_cast<std::uint8_t>(other_wins ? ClassId::Other : ClassId::Wall);
-    // The ramp's score moves to the new class: the label stays the scores'
-    // arg-max, and the map, which fuses scores where a point has them, sees
-    // the same change.
-    const std::size_t to = other_wins ? other : wall;
-    if (ramp < channels && to < channels) {
-      points.score(to)[p] += points.score(ramp)[p];
-      points.score(ramp)[p] = 0.0f;
-    }
+    (other_wins ? to_other : to_wall).apply(p);
     ++changed;
   }
   return changed;

@@ -10,19 +10,14 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/semantic/class_move.hpp"
+#include "engine/semantic/horizontal_columns.hpp"
 
 namespace sarmap {
 
 namespace {
 
-// Points farther out than this (metres) are left alone: their columns would
-// not fit the packed key (the metric map rejects them anyway).
-constexpr double kMaxHorizontal = 1.0e6;
-constexpr std::int64_t kOffset = std::int64_t{1} << 31;
-
-std::uint64_t column_key(std::int64_t cx, std::int64_t cy) {
-  return (static_cast<std::uint64_t>(cx + kOffset) << 32) | static_cast<std::uint64_t>(cy + kOffset);
-}
+using horizontal_columns::in_reach;
 
 struct Column {
   std::int64_t cx, cy;
@@ -75,15 +70,12 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   const auto other = static_cast<std::uint8_t>(ClassId::Other);
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
-  const auto in_reach = [](double x, double y) { return std::abs(x) <= kMaxHorizontal && std::abs(y) <= kMaxHorizontal; };
 
   // Columns holding other, each marked once its patch is judged: 1 = wall.
   std::unordered_map<std::uint64_t, std::int8_t> columns;  // -1 unjudged, 0 box-sized, 1 wall
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    columns.try_emplace(column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
-                                   static_cast<std::int64_t>(std::floor(ys[p] * inv))),
-                        std::int8_t{-1});
+    columns.try_emplace(horizontal_columns::key_of(xs[p], ys[p], inv), std::int8_t{-1});
   }
   std::vector<Column> patch;
   std::vector<std::uint64_t> keys;
@@ -94,12 +86,11 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     verdict = 0;
     keys.push_back(start);
     for (std::size_t i = 0; i < keys.size(); ++i) {
-      const std::int64_t cx = static_cast<std::int64_t>(keys[i] >> 32) - kOffset;
-      const std::int64_t cy = static_cast<std::int64_t>(keys[i] & 0xffffffffu) - kOffset;
+      const std::int64_t cx = horizontal_columns::key_x(keys[i]), cy = horizontal_columns::key_y(keys[i]);
       patch.push_back({cx, cy});
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const auto it = columns.find(column_key(cx + dx, cy + dy));
+          const auto it = columns.find(horizontal_columns::key(cx + dx, cy + dy));
           if (it == columns.end() || it->second >= 0) continue;
           it->second = 0;
           keys.push_back(it->first);
@@ -113,21 +104,12 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   }
   if (wall_columns == 0) return 0;
 
-  const auto wall = static_cast<std::uint8_t>(ClassId::Wall);
-  const std::size_t channels = points.score_count();
-  const std::size_t other_score = points.find_score("other"), wall_score = points.find_score("wall");
-  const bool scored = other_score < channels && wall_score < channels;
+  ClassMove to_wall(points, ClassId::Other, ClassId::Wall);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    const auto it = columns.find(column_key(static_cast<std::int64_t>(std::floor(xs[p] * inv)),
-                                            static_cast<std::int64_t>(std::floor(ys[p] * inv))));
-    if (it->second != 1) continue;
-    labels[p] = wall;
-    if (scored) {
-      points.score(wall_score)[p] += points.score(other_score)[p];
-      points.score(other_score)[p] = 0.0f;
-    }
+    if (columns.find(horizontal_columns::key_of(xs[p], ys[p], inv))->second != 1) continue;
+    to_wall.apply(p);
     ++changed;
   }
   return changed;
