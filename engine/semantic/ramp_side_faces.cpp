@@ -86,13 +86,16 @@ std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
   }
   remember_decks(points);
   if (columns_.empty()) return 0;
-  const auto wall = static_cast<std::uint8_t>(ClassId::Wall);
+  const auto wall = static_cast<std::uint8_t>(ClassId::Wall), other = static_cast<std::uint8_t>(ClassId::Other);
   const auto labels = points.labels();
-  ClassMove to_ramp(points, ClassId::Wall, ClassId::InclinedRamp);
+  ClassMove wall_to_ramp(points, ClassId::Wall, ClassId::InclinedRamp);
+  ClassMove other_to_ramp(points, ClassId::Other, ClassId::InclinedRamp);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
-    if (labels[p] != wall || !in_reach(xs[p], ys[p]) || !under_a_deck(xs[p], ys[p], zs[p])) continue;
-    to_ramp.apply(p);
+    if ((labels[p] != wall && labels[p] != other) || !in_reach(xs[p], ys[p]) || !under_a_deck(xs[p], ys[p], zs[p])) {
+      continue;
+    }
+    (labels[p] == wall ? wall_to_ramp : other_to_ramp).apply(p);
     ++changed;
   }
   return changed;

@@ -11,7 +11,9 @@
 // surface (the ramp hides the wall below it). So a point labelled wall
 // becomes inclined ramp when deck lies within `radius` horizontally and
 // between min_rise and max_rise above it. Deck is what the network labelled
-// inclined ramp on a plane gentle enough to be one.
+// inclined ramp on a plane gentle enough to be one. The network calls some
+// side faces other (the side of a box) instead: those points become ramp
+// the same way (held-out inclined IoU 83.1 -> 83.9 at stride 1.0, PERF.md).
 //
 // A camera low beside a ramp sees its side but rarely the deck above, so the
 // decks are remembered across a sequence's scans: RampDeckMemory keeps, per
@@ -51,10 +53,11 @@ class RampDeckMemory {
   explicit RampDeckMemory(const RampSideSettings& settings);
 
   // Remembers the scan's deck points (world frame, labelled), then relabels
-  // as inclined ramp the points labelled wall that stand under a deck seen
-  // in this scan or an earlier one. Each such point's "wall" score moves to
-  // its "inclined_ramp" score when both channels exist (so the label stays
-  // the scores' arg-max and the map's score fusion agrees). Returns how many
+  // as inclined ramp the points labelled wall or other that stand under a
+  // deck seen in this scan or an earlier one. Each such point's "wall" (or
+  // "other") score moves to its "inclined_ramp" score when both channels
+  // exist (so the label stays the scores' arg-max and the map's score
+  // fusion agrees). Returns how many
   // points changed; nothing when disabled or unlabelled. Throws
   // sarmap::Error (InvalidArgument, like the normals) for a non-finite point.
   std::size_t label_side_faces(PointBuffer& points);

@@ -67,38 +67,46 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
       throw Error(ErrorCode::InvalidArgument, "wall bands: point " + std::to_string(p) + " is not finite");
     }
   }
-  const auto other = static_cast<std::uint8_t>(ClassId::Other);
+  const auto other = static_cast<std::uint8_t>(ClassId::Other), wall = static_cast<std::uint8_t>(ClassId::Wall);
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
 
-  // Columns holding other, each marked once its patch is judged: 1 = wall.
-  std::unordered_map<std::uint64_t, std::int8_t> columns;  // -1 unjudged, 0 box-sized, 1 wall
+  // Columns holding other or wall, each judged with its patch.
+  struct ColumnState {
+    std::int8_t verdict = -1;  // -1 unjudged, 0 box-sized, 1 wall
+    bool holds_other = false;
+  };
+  std::unordered_map<std::uint64_t, ColumnState> columns;
   for (std::size_t p = 0; p < points.size(); ++p) {
-    if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    columns.try_emplace(horizontal_columns::key_of(xs[p], ys[p], inv), std::int8_t{-1});
+    if ((labels[p] != other && labels[p] != wall) || !in_reach(xs[p], ys[p])) continue;
+    ColumnState& column = columns[horizontal_columns::key_of(xs[p], ys[p], inv)];
+    column.holds_other = column.holds_other || labels[p] == other;
   }
   std::vector<Column> patch;
   std::vector<std::uint64_t> keys;
   std::size_t wall_columns = 0;
-  for (auto& [start, verdict] : columns) {
-    if (verdict >= 0) continue;
+  for (auto& [start, state] : columns) {
+    if (state.verdict >= 0) continue;
     patch.clear(), keys.clear();
-    verdict = 0;
+    state.verdict = 0;
     keys.push_back(start);
+    bool holds_other = false;
     for (std::size_t i = 0; i < keys.size(); ++i) {
       const std::int64_t cx = horizontal_columns::key_x(keys[i]), cy = horizontal_columns::key_y(keys[i]);
       patch.push_back({cx, cy});
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
           const auto it = columns.find(horizontal_columns::key(cx + dx, cy + dy));
-          if (it == columns.end() || it->second >= 0) continue;
-          it->second = 0;
+          if (it == columns.end() || it->second.verdict >= 0) continue;
+          it->second.verdict = 0;
           keys.push_back(it->first);
         }
       }
+      holds_other = holds_other || columns.find(keys[i])->second.holds_other;
     }
-    if (principal_extent(patch) * s.column >= s.min_length) {
-      for (std::uint64_t k : keys) columns[k] = 1;
+    // A patch of wall labels alone has nothing to change.
+    if (holds_other && principal_extent(patch) * s.column >= s.min_length) {
+      for (std::uint64_t k : keys) columns[k].verdict = 1;
       wall_columns += keys.size();
     }
   }
@@ -108,7 +116,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    if (columns.find(horizontal_columns::key_of(xs[p], ys[p], inv))->second != 1) continue;
+    if (columns.find(horizontal_columns::key_of(xs[p], ys[p], inv))->second.verdict != 1) continue;
     to_wall.apply(p);
     ++changed;
   }

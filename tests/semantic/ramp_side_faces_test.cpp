@@ -1,8 +1,8 @@
 // Ramp side faces on exact geometry: a 20-degree wedge ramp whose deck the
 // network labelled inclined ramp and whose vertical side it labelled wall.
-// The side becomes ramp (scores moved with it); a wall standing above the
-// ramp, a wall far from it, and walls under a steep "deck" or a ridge
-// stay wall; decks are remembered across scans until cleared; bad settings
+// The side becomes ramp (scores moved with it), also when labelled other;
+// a wall standing above the ramp, a wall far from it, and walls under a
+// steep "deck" or a ridge stay wall; decks are remembered across scans until cleared; bad settings
 // and non-finite points are refused.
 #include "engine/semantic/ramp_side_faces.hpp"
 
@@ -70,6 +70,25 @@ TEST(RampSideFaces, TheSideUnderADeckBecomesRamp) {
   EXPECT_EQ(label_ramp_side_faces(points, {}), side);
   EXPECT_EQ(count(points, kInclined), deck + side);
   EXPECT_EQ(count(points, kWall), 0u);
+}
+
+TEST(RampSideFaces, ASideLabelledOtherBecomesRampToo) {
+  PointBuffer points = labelled();
+  add_deck(points);
+  const std::size_t deck = points.size();
+  const std::size_t side = add_side(points);
+  const std::size_t other = points.add_score("other"), ramp = points.add_score("inclined_ramp");
+  for (std::size_t p = deck; p < points.size(); ++p) {
+    points.labels()[p] = static_cast<std::uint8_t>(ClassId::Other);
+    points.score(other)[p] = 0.6f;
+    points.score(ramp)[p] = 0.1f;
+  }
+  EXPECT_EQ(label_ramp_side_faces(points, {}), side);
+  EXPECT_EQ(count(points, kInclined), deck + side);
+  for (std::size_t p = deck; p < points.size(); ++p) {
+    EXPECT_FLOAT_EQ(points.score(ramp)[p], 0.7f) << p;
+    EXPECT_FLOAT_EQ(points.score(other)[p], 0.0f) << p;
+  }
 }
 
 TEST(RampSideFaces, TheWallScoreMovesToTheRampScore) {

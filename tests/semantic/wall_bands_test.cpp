@@ -1,5 +1,6 @@
-// Wall bands on exact geometry: a long low band labelled other becomes wall
-// (scores moved with it), a box stays other, length is measured along the
+// Wall bands on exact geometry: a long low band labelled other, or split
+// between other and wall, becomes wall (scores moved with it); a box stays
+// other, even with sides labelled wall; length is measured along the
 // patch's own axis and the limit is where it says; other labels alone are
 // touched; bad settings and non-finite points are refused.
 #include "engine/semantic/wall_bands.hpp"
@@ -85,23 +86,50 @@ TEST(WallBands, BoxesStayOther) {
 }
 
 TEST(WallBands, LengthIsMeasuredAlongThePatch) {
-  // 1.2 m at 45 degrees: 0.85 m along x and along y, 1.2 m along itself.
+  // 0.9 m at 45 degrees: 7 columns (0.7 m) along x and along y, 0.9 m along itself.
   PointBuffer diagonal = labelled();
-  add_strip(diagonal, 0.005, 0.005, 45.0, 1.2, kOther);
+  add_strip(diagonal, 0.005, 0.005, 45.0, 0.9, kOther);
   EXPECT_EQ(label_wall_bands(diagonal, {}), diagonal.size());
 }
 
 TEST(WallBands, TheLimitIsWhereItSays) {
-  // Columns of 10 cm: a strip over 9 columns is 0.9 m, over 10 it is 1 m.
+  // Columns of 10 cm: a strip over 7 columns is 0.7 m, over 8 it is 0.8 m.
   PointBuffer short_strip = labelled();
-  add_strip(short_strip, 0.005, 0.005, 0.0, 0.88, kOther);
+  add_strip(short_strip, 0.005, 0.005, 0.0, 0.68, kOther);
   EXPECT_EQ(label_wall_bands(short_strip, {}), 0u);
   PointBuffer long_strip = labelled();
-  add_strip(long_strip, 0.005, 0.005, 0.0, 0.98, kOther);
+  add_strip(long_strip, 0.005, 0.005, 0.0, 0.78, kOther);
   EXPECT_EQ(label_wall_bands(long_strip, {}), long_strip.size());
   WallBandSettings shorter;
-  shorter.min_length = 0.9;
+  shorter.min_length = 0.7;
   EXPECT_EQ(label_wall_bands(short_strip, shorter), short_strip.size());
+}
+
+TEST(WallBands, ABandSplitBetweenWallAndOtherBecomesWall) {
+  // One band along x: 0.5 m labelled other, then 1.5 m labelled wall.
+  PointBuffer points = labelled();
+  add_strip(points, 0.005, 0.005, 0.0, 0.5, kOther);
+  const std::size_t other = points.size();
+  add_strip(points, 0.525, 0.005, 0.0, 1.5, kWall);
+  EXPECT_EQ(label_wall_bands(points, {}), other);
+  EXPECT_EQ(count(points, kWall), points.size());
+  // The other stretch alone is box-sized.
+  PointBuffer alone = labelled();
+  add_strip(alone, 0.005, 0.005, 0.0, 0.5, kOther);
+  EXPECT_EQ(label_wall_bands(alone, {}), 0u);
+}
+
+TEST(WallBands, ABoxWithSidesLabelledWallStaysOther) {
+  PointBuffer points = labelled();
+  add_box(points, 0.005, 0.005, 0.6);
+  // The network called two of its sides wall.
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (points.y()[p] < 0.01f || points.x()[p] < 0.01f) points.labels()[p] = kWall;
+  }
+  const std::size_t other = count(points, kOther);
+  ASSERT_GT(other, 0u);
+  EXPECT_EQ(label_wall_bands(points, {}), 0u);
+  EXPECT_EQ(count(points, kOther), other);
 }
 
 TEST(WallBands, OnlyOtherLabelsAreTouched) {
