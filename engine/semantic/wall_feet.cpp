@@ -1,0 +1,85 @@
+#include "engine/semantic/wall_feet.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/semantic/class_move.hpp"
+#include "engine/semantic/horizontal_columns.hpp"
+
+namespace sarmap {
+
+namespace {
+
+using horizontal_columns::in_reach;
+
+// The terrain points of one column: their count and height sum.
+struct FloorSum {
+  std::size_t points = 0;
+  double height_sum = 0.0;
+};
+
+}  // namespace
+
+void validate(const WallFootSettings& s) {
+  if (!(s.column >= 0.01) || !std::isfinite(s.column)) {
+    throw Error(ErrorCode::InvalidArgument, "wall feet: the column must be at least 0.01 m");
+  }
+  if (!(s.tolerance >= 0.0) || !std::isfinite(s.tolerance)) {
+    throw Error(ErrorCode::InvalidArgument, "wall feet: the tolerance must be finite and >= 0, got " +
+                                                std::to_string(s.tolerance));
+  }
+  if (s.min_floor_points == 0) {
+    throw Error(ErrorCode::InvalidArgument, "wall feet: min_floor_points must be at least 1");
+  }
+}
+
+std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
+  validate(s);
+  if (!s.enabled || !points.has_labels()) return 0;
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
+      throw Error(ErrorCode::InvalidArgument, "wall feet: point " + std::to_string(p) + " is not finite");
+    }
+  }
+  const auto terrain = static_cast<std::uint8_t>(ClassId::Terrain), wall = static_cast<std::uint8_t>(ClassId::Wall);
+  const auto labels = points.labels();
+  const double inv = 1.0 / s.column;
+
+  std::unordered_map<std::uint64_t, FloorSum> floor;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != terrain || !in_reach(xs[p], ys[p])) continue;
+    FloorSum& sum = floor[horizontal_columns::key_of(xs[p], ys[p], inv)];
+    ++sum.points;
+    sum.height_sum += zs[p];
+  }
+  if (floor.empty()) return 0;
+
+  ClassMove to_terrain(points, ClassId::Wall, ClassId::Terrain);
+  std::size_t changed = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (labels[p] != wall || !in_reach(xs[p], ys[p])) continue;
+    const std::int64_t cx = horizontal_columns::index(xs[p], inv), cy = horizontal_columns::index(ys[p], inv);
+    FloorSum around;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        const auto it = floor.find(horizontal_columns::key(cx + dx, cy + dy));
+        if (it == floor.end()) continue;
+        around.points += it->second.points;
+        around.height_sum += it->second.height_sum;
+      }
+    }
+    if (around.points < s.min_floor_points) continue;
+    const double floor_height = around.height_sum / static_cast<double>(around.points);
+    if (!(zs[p] <= floor_height + s.tolerance)) continue;
+    to_terrain.apply(p);
+    ++changed;
+  }
+  return changed;
+}
+
+}  // namespace sarmap
