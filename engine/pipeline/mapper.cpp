@@ -65,6 +65,7 @@ void Mapper::integrate(Scan& scan) {
       profile_.add_count("classify", "ramp_vetoed", static_cast<double>(counts.vetoed));
       profile_.add_count("classify", "wall_bands", static_cast<double>(counts.wall_bands));
       profile_.add_count("classify", "ramp_sides", static_cast<double>(counts.ramp_sides));
+      profile_.add_count("classify", "wall_feet", static_cast<double>(counts.wall_feet));
     } catch (const Error& e) {
       throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
     }

@@ -46,12 +46,15 @@ class GeometricPointClassifier final : public PointClassifier {
 class DgcnnPointClassifier final : public PointClassifier {
  public:
   DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings,
-                       const WallBandSettings& wall_bands, const RampSideSettings& ramp_sides)
+                       const WallBandSettings& wall_bands, const RampSideSettings& ramp_sides,
+                       const WallFootSettings& wall_feet)
       : model_(DgcnnModel::load(model)),
         classifier_(model_, settings),
         wall_bands_(wall_bands),
-        ramp_decks_(ramp_sides) {
+        ramp_decks_(ramp_sides),
+        wall_feet_(wall_feet) {
     validate(wall_bands_);
+    validate(wall_feet_);
   }
   std::string_view name() const override { return "dgcnn"; }
   ClassifyCounts classify(PointBuffer& points) override {
@@ -63,6 +66,8 @@ class DgcnnPointClassifier final : public PointClassifier {
     // is then found under its deck.
     counts.wall_bands = label_wall_bands(points, wall_bands_);
     counts.ramp_sides = ramp_decks_.label_side_faces(points);
+    // Wall feet last: a ramp side's lowest points, once ramp, stay ramp.
+    counts.wall_feet = label_wall_feet(points, wall_feet_);
     counts.unlabelled = count_unknown(points);
     return counts;
   }
@@ -72,6 +77,7 @@ class DgcnnPointClassifier final : public PointClassifier {
   DgcnnClassifier classifier_;
   WallBandSettings wall_bands_;
   RampDeckMemory ramp_decks_;  // the ramp decks of every scan so far
+  WallFootSettings wall_feet_;
 };
 
 }  // namespace
@@ -83,7 +89,8 @@ std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& c
     if (config.model.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
     }
-    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands, config.ramp_sides);
+    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands, config.ramp_sides,
+                                                  config.wall_feet);
   }
   throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.kind +
                                               "\": choose dgcnn (the network), geometric (the normal-based "

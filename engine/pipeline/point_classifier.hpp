@@ -16,6 +16,7 @@
 #include "engine/semantic/geometric_classifier.hpp"
 #include "engine/semantic/ramp_side_faces.hpp"
 #include "engine/semantic/wall_bands.hpp"
+#include "engine/semantic/wall_feet.hpp"
 
 namespace sarmap::pipeline {
 
@@ -23,11 +24,13 @@ struct ClassifierConfig {
   std::string kind = "dgcnn";  // dgcnn | geometric | labels
   std::filesystem::path model;  // dgcnn only; required for it
   DgcnnClassifierSettings dgcnn;
-  // dgcnn, after the network and its veto: patches labelled other longer
-  // than a box become wall, then wall labels under a ramp deck seen in this
-  // scan or an earlier one become inclined ramp.
+  // dgcnn, after the network and its veto: patches labelled other (with
+  // wall) longer than a box become wall, then wall and other labels under a
+  // ramp deck seen in this scan or an earlier one become inclined ramp, then
+  // wall labels at the floor's height become terrain.
   WallBandSettings wall_bands;
   RampSideSettings ramp_sides;
+  WallFootSettings wall_feet;
   GeometricClassifierSettings geometric;
 };
 
@@ -37,7 +40,8 @@ struct ClassifyCounts {
   std::size_t unlabelled = 0;      // points left unknown (sparse blocks, far points)
   std::size_t vetoed = 0;          // dgcnn inclined-ramp labels on steep surfaces, relabelled
   std::size_t wall_bands = 0;      // dgcnn other labels in patches longer than a box, relabelled wall
-  std::size_t ramp_sides = 0;      // dgcnn wall labels under a ramp deck, relabelled inclined ramp
+  std::size_t ramp_sides = 0;      // dgcnn wall / other labels under a ramp deck, relabelled inclined ramp
+  std::size_t wall_feet = 0;       // dgcnn wall labels at the floor's height, relabelled terrain
 };
 
 class PointClassifier {

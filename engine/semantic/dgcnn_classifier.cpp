@@ -46,7 +46,7 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
   }
   BlockPartitionSettings ps;
   ps.block_size = m.block_size;
-  ps.stride = settings_.stride;
+  ps.stride = settings_.stride > 0.0 ? settings_.stride : kDefaultStrideFraction * m.block_size;
   ps.min_points = settings_.min_points;
   const BlockPartition part = partition_blocks(points, ps);
   const std::size_t classes = model_.classes(), target = m.points_per_block;

@@ -11,8 +11,14 @@
 
 namespace sarmap {
 
+// Blocks overlap by a quarter unless told otherwise: each point near a
+// block's edge is also seen nearer the middle of a neighbouring block, and
+// its scores are averaged over both. Held-out mean IoU 85.4 -> 90.3 against
+// no overlap, for 1.8x the blocks (PERF.md "Classifiers").
+inline constexpr double kDefaultStrideFraction = 0.75;
+
 struct DgcnnClassifierSettings {
-  double stride = 0.0;           // <= 0: the model's block size (no overlap)
+  double stride = 0.0;           // metres between block origins; <= 0: kDefaultStrideFraction x the block size
   std::size_t min_points = 500;  // sparser blocks are dropped
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
   SteepSurfaceVetoSettings ramp_veto;  // inclined-ramp labels on steep surfaces become wall / other

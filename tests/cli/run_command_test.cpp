@@ -209,14 +209,14 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
 }
 
 // The rules after the network (steep-surface veto, wall bands, ramp side
-// faces) are on by default and --no-ramp-veto, --no-wall-bands and
-// --no-ramp-sides turn them off: the manifest records which, and the
+// faces, wall feet) are on by default and --no-ramp-veto, --no-wall-bands,
+// --no-ramp-sides and --no-wall-feet turn them off: the manifest records which, and the
 // profile counts what they changed (nothing when off). (What they change is
 // tested on exact geometry in tests/semantic; this input is too small.)
 TEST_F(RunCommand, TheRuleSwitchesAreRecordedAndCounted) {
   auto r = run_dgcnn("", dir_ / "veto");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  r = run_dgcnn(" --no-ramp-veto --no-wall-bands --no-ramp-sides", dir_ / "plain");
+  r = run_dgcnn(" --no-ramp-veto --no-wall-bands --no-ramp-sides --no-wall-feet", dir_ / "plain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
   EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
@@ -224,15 +224,19 @@ TEST_F(RunCommand, TheRuleSwitchesAreRecordedAndCounted) {
   EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_sides").get<bool>());
   EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("wall_bands").get<bool>());
   EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("wall_bands").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("wall_feet").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("wall_feet").get<bool>());
   for (const char* run : {"veto", "plain"}) {
     const auto classify = json_of(dir_ / run / "profile.json").at("stages").at("classify");
     EXPECT_EQ(classify.at("ramp_vetoed").get<double>(), 0.0) << run;
     EXPECT_TRUE(classify.contains("ramp_sides")) << run;
     EXPECT_TRUE(classify.contains("wall_bands")) << run;
+    EXPECT_TRUE(classify.contains("wall_feet")) << run;
   }
   const auto plain = json_of(dir_ / "plain" / "profile.json").at("stages").at("classify");
   EXPECT_EQ(plain.at("ramp_sides").get<double>(), 0.0);
   EXPECT_EQ(plain.at("wall_bands").get<double>(), 0.0);
+  EXPECT_EQ(plain.at("wall_feet").get<double>(), 0.0);
 }
 
 // Map bounds from the command line: the saved map holds no more blocks than

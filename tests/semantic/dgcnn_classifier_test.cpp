@@ -3,6 +3,7 @@
 // identical results for 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -26,9 +27,33 @@ PointBuffer small_scene() {
   return cloud;
 }
 
+// No overlap: one block of the floor, one of the wall.
+DgcnnClassifierSettings one_block_per_cell(const DgcnnModel& model) {
+  DgcnnClassifierSettings settings;
+  settings.stride = model.metadata().block_size;
+  return settings;
+}
+
+TEST(DgcnnClassifier, ByDefaultBlocksOverlapByAQuarter) {
+  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  DgcnnClassifierSettings quarter;
+  quarter.stride = kDefaultStrideFraction * model.metadata().block_size;
+  PointBuffer by_default = small_scene(), by_quarter = small_scene(), apart = small_scene();
+  const DgcnnClassifyStats d = DgcnnClassifier(model, {}).classify(by_default);
+  const DgcnnClassifyStats q = DgcnnClassifier(model, quarter).classify(by_quarter);
+  const DgcnnClassifyStats a = DgcnnClassifier(model, one_block_per_cell(model)).classify(apart);
+  EXPECT_EQ(kDefaultStrideFraction, 0.75);
+  EXPECT_EQ(d.blocks, q.blocks);
+  EXPECT_GT(d.blocks, a.blocks);
+  EXPECT_TRUE(std::equal(by_default.labels().begin(), by_default.labels().end(), by_quarter.labels().begin()));
+  for (std::size_t c = 0; c < by_default.score_count(); ++c) {
+    EXPECT_TRUE(std::equal(by_default.score(c).begin(), by_default.score(c).end(), by_quarter.score(c).begin())) << c;
+  }
+}
+
 TEST(DgcnnClassifier, LabelsEveryPointWithValidClassesAndProbabilities) {
   const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
-  const DgcnnClassifier classifier(model, {});
+  const DgcnnClassifier classifier(model, one_block_per_cell(model));
   PointBuffer cloud = small_scene();
   const DgcnnClassifyStats stats = classifier.classify(cloud);
   EXPECT_EQ(stats.blocks, 2u);

@@ -30,6 +30,11 @@ constexpr std::uint64_t kSteepPitchArena = 9005;  // camera pitched -24.3 degree
 constexpr std::uint64_t kRampSideArena = 9003;    // ramps seen side-on
 constexpr std::size_t kScans = 6;  // spread evenly along the trajectory
 
+// The cases below that test one rule at a time run the blocks without
+// overlap (the shipped model's block size), as when their figures were
+// recorded; the last case runs the shipped configuration as it is.
+constexpr double kNoOverlapStride = 1.5;
+
 // Recorded when the model was committed; margins absorb nothing but future
 // changes of sampling order, so they are small.
 constexpr double kRecordedMeanIou = 0.9572;
@@ -50,6 +55,17 @@ constexpr double kRecordedSidesInclinedGain = 0.1236;  // 0.7963 -> 0.9199
 const std::vector<std::size_t> kFirstFrames{0, 4, 8};
 constexpr double kRecordedBandsWallIou = 0.9457;
 constexpr double kRecordedBandsWallGain = 0.7147;  // 0.2310 -> 0.9457 (0.9461 before bands counted wall-labelled columns)
+// The held-out arena's scans with every rule, and the gains of wall feet
+// over the same scans without it (small: a few floor points per scan).
+constexpr double kRecordedFeetTerrainIou = 0.9864;
+constexpr double kRecordedFeetWallIou = 0.9833;
+constexpr double kRecordedFeetTerrainGain = 0.0028;  // 0.9836 -> 0.9864
+constexpr double kRecordedFeetWallGain = 0.0030;     // 0.9803 -> 0.9833
+// The shipped configuration (blocks overlapping by a quarter, every rule
+// on) on the held-out arena's scans.
+constexpr double kRecordedDefaultMeanIou = 0.9631;
+constexpr double kRecordedDefaultInclinedIou = 0.8920;
+constexpr double kRecordedDefaultFlatIou = 0.9883;
 constexpr double kMargin = 0.02;
 
 // The given frames of a held-out arena, classified in order by one classifier.
@@ -90,12 +106,15 @@ void print_figures(const char* name, const eval::ConfusionMatrix& c) {
               c.iou(ClassId::FlatRamp).value_or(0));
 }
 
-pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false, bool wall_bands = false) {
+pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false, bool wall_bands = false,
+                                         bool wall_feet = false) {
   pipeline::ClassifierConfig dgcnn;
   dgcnn.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
+  dgcnn.dgcnn.stride = kNoOverlapStride;
   dgcnn.dgcnn.ramp_veto.enabled = ramp_veto;
   dgcnn.ramp_sides.enabled = ramp_sides;
   dgcnn.wall_bands.enabled = wall_bands;
+  dgcnn.wall_feet.enabled = wall_feet;
   return dgcnn;
 }
 
@@ -145,6 +164,30 @@ TEST(ShippedModel, WallBandsTurnALongWallTheNetworkCalledOtherIntoWall) {
   EXPECT_GT(after.iou(ClassId::Wall).value(), before.iou(ClassId::Wall).value() + kRecordedBandsWallGain - kMargin);
   // Nothing else moves: the rule only turns other into wall.
   EXPECT_DOUBLE_EQ(after.iou(ClassId::InclinedRamp).value(), before.iou(ClassId::InclinedRamp).value());
+}
+
+TEST(ShippedModel, WallFeetTurnFloorLabelledWallIntoTerrain) {
+  const eval::ConfusionMatrix before = classify_held_out_scans(shipped_model(true, true, true));
+  const eval::ConfusionMatrix after = classify_held_out_scans(shipped_model(true, true, true, true));
+  print_figures("dgcnn + veto + sides + bands", before);
+  print_figures("dgcnn + veto + sides + bands + feet", after);
+  EXPECT_GE(after.iou(ClassId::Terrain).value(), kRecordedFeetTerrainIou - kMargin);
+  EXPECT_GE(after.iou(ClassId::Wall).value(), kRecordedFeetWallIou - kMargin);
+  // At least half the recorded gains (a margin as wide as the others would exceed them).
+  EXPECT_GT(after.iou(ClassId::Terrain).value(), before.iou(ClassId::Terrain).value() + kRecordedFeetTerrainGain / 2);
+  EXPECT_GT(after.iou(ClassId::Wall).value(), before.iou(ClassId::Wall).value() + kRecordedFeetWallGain / 2);
+  // Nothing else moves: the rule only turns wall into terrain.
+  EXPECT_DOUBLE_EQ(after.iou(ClassId::InclinedRamp).value(), before.iou(ClassId::InclinedRamp).value());
+}
+
+TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
+  pipeline::ClassifierConfig shipped;  // what `sarmap run` uses by default
+  shipped.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
+  const eval::ConfusionMatrix c = classify_held_out_scans(shipped);
+  print_figures("dgcnn, shipped configuration", c);
+  EXPECT_GE(c.mean_iou().value(), kRecordedDefaultMeanIou - kMargin);
+  EXPECT_GE(c.iou(ClassId::InclinedRamp).value(), kRecordedDefaultInclinedIou - kMargin);
+  EXPECT_GE(c.iou(ClassId::FlatRamp).value(), kRecordedDefaultFlatIou - kMargin);
 }
 
 }  // namespace

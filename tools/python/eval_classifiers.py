@@ -54,10 +54,10 @@ def simulate(sarmap, work, name, arena_json, seed, every):
 
 
 def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, ramp_veto,
-             ramp_sides, wall_bands, threads):
+             ramp_sides, wall_bands, wall_feet, threads):
     suffix = ""
     if classifier == "dgcnn":
-        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto") + ("" if ramp_sides else "-nosides") + ("" if wall_bands else "-nobands")
+        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto") + ("" if ramp_sides else "-nosides") + ("" if wall_bands else "-nobands") + ("" if wall_feet else "-nofeet")
     out = os.path.join(work, name, classifier + suffix)
     cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
     if classifier == "dgcnn" and model:
@@ -72,6 +72,8 @@ def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_bloc
         cmd += ["--no-ramp-sides"]
     if classifier == "dgcnn" and not wall_bands:
         cmd += ["--no-wall-bands"]
+    if classifier == "dgcnn" and not wall_feet:
+        cmd += ["--no-wall-feet"]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
     with open(os.path.join(out, "profile.json")) as f:
@@ -119,6 +121,8 @@ def main(argv):
                         help="passed to sarmap run: keep the network's wall labels on ramp side faces")
     parser.add_argument("--no-wall-bands", action="store_true",
                         help="passed to sarmap run: keep the network's other labels on long surfaces")
+    parser.add_argument("--no-wall-feet", action="store_true",
+                        help="passed to sarmap run: keep the network's wall labels at the floor's height")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args(argv)
@@ -133,7 +137,8 @@ def main(argv):
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
                                         args.min_block_points, args.block_stride, not args.no_ramp_veto,
-                                        not args.no_ramp_sides, not args.no_wall_bands, args.threads)
+                                        not args.no_ramp_sides, not args.no_wall_bands, not args.no_wall_feet,
+                                        args.threads)
             totals[classifier] += conf
             rows.append((name, classifier, ious(conf), classify_s))
             print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)

@@ -23,6 +23,7 @@
 #include "engine/semantic/dgcnn_model.hpp"
 #include "engine/semantic/ramp_side_faces.hpp"
 #include "engine/semantic/wall_bands.hpp"
+#include "engine/semantic/wall_feet.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
@@ -41,6 +42,7 @@ struct ClassifyOptions {
   bool ramp_veto = true;
   bool wall_bands = true;
   bool ramp_sides = true;
+  bool wall_feet = true;
   std::string raw_block;
   std::string model;
   std::string logits;
@@ -118,12 +120,15 @@ void run_cloud(const ClassifyOptions& o) {
   RampSideSettings sides;
   sides.enabled = o.ramp_sides;
   const std::size_t side_points = label_ramp_side_faces(points, sides);  // this frame's decks only
+  WallFootSettings feet;
+  feet.enabled = o.wall_feet;
+  const std::size_t foot_points = label_wall_feet(points, feet);
   write_point_cloud(o.out, points);
   std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown; "
               "%zu inclined-ramp labels on steep surfaces changed; %zu other labels on wall bands changed; "
-              "%zu wall labels under a ramp deck changed\n",
+              "%zu wall or other labels under a ramp deck changed; %zu wall labels at floor height changed\n",
               points.size(), stats.blocks, stats.dropped_points, o.min_points, stats.vetoed_points, band_points,
-              side_points);
+              side_points, foot_points);
 }
 
 }  // namespace
@@ -135,16 +140,21 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)");
   add_sequence_input_options(cmd, options->sequence);
   cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
-  cmd->add_option("--stride", options->stride, "Metres between block origins (default: the block size)");
+  cmd->add_option("--stride", options->stride, "Metres between block origins (default 0: three quarters of the block size)");
   cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)");
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)");
   cmd->add_flag("!--no-ramp-veto", options->ramp_veto,
                 "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
   cmd->add_flag("!--no-wall-bands", options->wall_bands,
-                "Keep other labels on long surfaces (by default, a patch labelled other 1 m or longer becomes wall)");
+                "Keep other labels on long surfaces (by default, other labels in a patch of other and wall "
+                "0.8 m or longer become wall)");
   cmd->add_flag("!--no-ramp-sides", options->ramp_sides,
-                "Keep wall labels on ramp side faces (by default, wall points with ramp deck 3-100 cm above "
-                "them within 15 cm become inclined ramp; one frame sees fewer decks than `sarmap run`'s sequence)");
+                "Keep wall and other labels on ramp side faces (by default, wall or other points with ramp deck "
+                "3-100 cm above them within 15 cm become inclined ramp; one frame sees fewer decks than "
+                "`sarmap run`'s sequence)");
+  cmd->add_flag("!--no-wall-feet", options->wall_feet,
+                "Keep wall labels at the floor's height (by default, wall points at most 5 mm above the "
+                "mean height of the terrain around them become terrain)");
   cmd->add_option("--raw-block", options->raw_block,
                   "An (N, C) float32 .npy block fed to the network as it is (no preprocessing)")
       ->check(CLI::ExistingFile);

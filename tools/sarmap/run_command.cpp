@@ -52,6 +52,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
   config.classifier.wall_bands.enabled = o.wall_bands;
   config.classifier.ramp_sides.enabled = o.ramp_sides;
+  config.classifier.wall_feet.enabled = o.wall_feet;
   if (o.classifier == "dgcnn") {
     config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
     if (!fs::exists(config.classifier.model)) {
@@ -98,6 +99,7 @@ RunSummary run_pipeline(const RunOptions& o) {
     manifest["settings"]["ramp_veto"] = o.ramp_veto;
     manifest["settings"]["wall_bands"] = o.wall_bands;
     manifest["settings"]["ramp_sides"] = o.ramp_sides;
+    manifest["settings"]["wall_feet"] = o.wall_feet;
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
@@ -151,18 +153,22 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--block-stride", o->block_stride,
                   "Metres between DGCNN block origins; below the block size the blocks overlap and each "
-                  "point's scores are averaged over the blocks that hold it (0 = the block size, no overlap)")
+                  "point's scores are averaged over the blocks that hold it (0 = three quarters of the block size, "
+                  "the default; the block size = no overlap)")
       ->capture_default_str();
   cmd->add_flag("!--no-ramp-veto", o->ramp_veto,
                "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
                "inclined ramp on a surface steeper than 60 degrees become wall or other)");
   cmd->add_flag("!--no-wall-bands", o->wall_bands,
-               "Keep the network's other labels on long surfaces (by default, a patch of points labelled "
-               "other that runs on for 1 m or more, longer than any box, becomes wall)");
+               "Keep the network's other labels on long surfaces (by default, points labelled other in a "
+               "patch of other and wall labels that runs on for 0.8 m or more, longer than a box, become wall)");
   cmd->add_flag("!--no-ramp-sides", o->ramp_sides,
-               "Keep the network's wall labels on ramp side faces (by default, points labelled wall with "
-               "ramp deck seen 3-100 cm above them within 15 cm, in this scan or an earlier one, become "
-               "inclined ramp)");
+               "Keep the network's wall and other labels on ramp side faces (by default, points labelled "
+               "wall or other with ramp deck seen 3-100 cm above them within 15 cm, in this scan or an "
+               "earlier one, become inclined ramp)");
+  cmd->add_flag("!--no-wall-feet", o->wall_feet,
+               "Keep the network's wall labels at the floor's height (by default, points labelled wall at "
+               "most 5 mm above the mean height of the terrain around them become terrain)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")

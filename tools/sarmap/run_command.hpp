@@ -22,10 +22,11 @@ struct RunOptions {
   // one depth frame leaves many blocks at its edges with a few hundred points,
   // and the network labels them well (held-out terrain IoU 77 % -> 94 % at 100).
   std::size_t min_block_points = 100;
-  double block_stride = 0.0;  // metres between DGCNN block origins; 0 = the model's block size
+  double block_stride = 0.0;  // metres between DGCNN block origins; 0 = three quarters of the model's block size
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
-  bool wall_bands = true;     // patches labelled other longer than 1 m become wall
-  bool ramp_sides = true;     // wall labels under a ramp deck (this scan or earlier) become inclined ramp
+  bool wall_bands = true;     // patches labelled other (with wall) 0.8 m or longer become wall
+  bool ramp_sides = true;     // wall / other labels under a ramp deck (this scan or earlier) become inclined ramp
+  bool wall_feet = true;      // wall labels at the floor's height become terrain
   int threads = 0;
   double max_range = 0.0;
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
