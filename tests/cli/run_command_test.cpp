@@ -179,7 +179,7 @@ TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
 }
 
 // Overlapping blocks: with a stride of half the block each point lies in up
-// to four blocks, so more blocks run than without overlap, every point still
+// to four blocks, so more blocks run than with the default quarter overlap, every point still
 // gets a class, and the manifest records the stride. A stride above the block
 // size would leave gaps and is refused by name.
 TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
