@@ -1,6 +1,6 @@
 // Moving a point from one class to another after the network, for the rules
 // that correct its labels (steep-surface veto, wall bands, ramp side
-// faces). The old class's score moves with the label to the new class's
+// faces, wall feet). The old class's score moves with the label to the new class's
 // score, when the points carry both channels: the label stays the scores'
 // arg-max, and the map, which fuses scores where a point has them, sees the
 // same change.

@@ -1,6 +1,6 @@
 // Columns of a horizontal grid, each packed into one word, for the rules
 // that group points by where they stand on the floor plan (ramp side
-// faces, wall bands).
+// faces, wall bands, wall feet).
 #pragma once
 
 #include <cmath>

@@ -118,7 +118,7 @@ def main(argv):
     parser.add_argument("--no-ramp-veto", action="store_true",
                         help="passed to sarmap run: keep the network's inclined-ramp labels on steep surfaces")
     parser.add_argument("--no-ramp-sides", action="store_true",
-                        help="passed to sarmap run: keep the network's wall labels on ramp side faces")
+                        help="passed to sarmap run: keep the network's wall and other labels on ramp side faces")
     parser.add_argument("--no-wall-bands", action="store_true",
                         help="passed to sarmap run: keep the network's other labels on long surfaces")
     parser.add_argument("--no-wall-feet", action="store_true",
