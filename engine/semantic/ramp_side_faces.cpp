@@ -8,6 +8,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
+#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/horizontal_columns.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
@@ -78,12 +79,8 @@ bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
 
 std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
   if (!settings_.enabled || !points.has_labels()) return 0;
+  require_finite_points(points, "ramp side faces");  // refused whether or not the scan shows a deck
   const auto xs = points.x(), ys = points.y(), zs = points.z();
-  for (std::size_t p = 0; p < points.size(); ++p) {  // refused whether or not the scan shows a deck
-    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
-      throw Error(ErrorCode::InvalidArgument, "ramp side faces: point " + std::to_string(p) + " is not finite");
-    }
-  }
   remember_decks(points);
   if (columns_.empty()) return 0;
   const auto wall = static_cast<std::uint8_t>(ClassId::Wall), other = static_cast<std::uint8_t>(ClassId::Other);

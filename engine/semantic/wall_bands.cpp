@@ -5,12 +5,12 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
+#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/horizontal_columns.hpp"
 
 namespace sarmap {
@@ -61,12 +61,8 @@ void validate(const WallBandSettings& s) {
 std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   validate(s);
   if (!s.enabled || !points.has_labels()) return 0;
+  require_finite_points(points, "wall bands");
   const auto xs = points.x(), ys = points.y(), zs = points.z();
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
-      throw Error(ErrorCode::InvalidArgument, "wall bands: point " + std::to_string(p) + " is not finite");
-    }
-  }
   const auto other = static_cast<std::uint8_t>(ClassId::Other), wall = static_cast<std::uint8_t>(ClassId::Wall);
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
@@ -90,7 +86,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     patch.clear(), keys.clear();
     state.verdict = 0;
     keys.push_back(start);
-    bool holds_other = false;
+    bool holds_other = state.holds_other;
     for (std::size_t i = 0; i < keys.size(); ++i) {
       const std::int64_t cx = horizontal_columns::key_x(keys[i]), cy = horizontal_columns::key_y(keys[i]);
       patch.push_back({cx, cy});
@@ -99,10 +95,10 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
           const auto it = columns.find(horizontal_columns::key(cx + dx, cy + dy));
           if (it == columns.end() || it->second.verdict >= 0) continue;
           it->second.verdict = 0;
+          holds_other = holds_other || it->second.holds_other;
           keys.push_back(it->first);
         }
       }
-      holds_other = holds_other || columns.find(keys[i])->second.holds_other;
     }
     // A patch of wall labels alone has nothing to change.
     if (holds_other && principal_extent(patch) * s.column >= s.min_length) {

@@ -8,6 +8,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
+#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/horizontal_columns.hpp"
 
 namespace sarmap {
@@ -40,12 +41,8 @@ void validate(const WallFootSettings& s) {
 std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
   validate(s);
   if (!s.enabled || !points.has_labels()) return 0;
+  require_finite_points(points, "wall feet");
   const auto xs = points.x(), ys = points.y(), zs = points.z();
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    if (!std::isfinite(xs[p]) || !std::isfinite(ys[p]) || !std::isfinite(zs[p])) {
-      throw Error(ErrorCode::InvalidArgument, "wall feet: point " + std::to_string(p) + " is not finite");
-    }
-  }
   const auto terrain = static_cast<std::uint8_t>(ClassId::Terrain), wall = static_cast<std::uint8_t>(ClassId::Wall);
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
