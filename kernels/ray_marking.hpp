@@ -1,9 +1,9 @@
 // Marks every cell that rays from one start point pass through (dda_walk.hpp's
 // exact DDA, end cells excluded) as a bit in 8 x 8 x 8-cell block masks: the
 // free-space pass of ray integration. The vector versions walk one ray per
-// SIMD lane (8 on AVX-512, 4 on AVX2), so the DDA's serial min-compare-select
-// chain is paid once per step of eight rays instead of once per cell; the
-// bits are the same as walking each ray alone.
+// SIMD lane (16 floats on AVX-512, 8 on AVX2), so the DDA's serial
+// min-compare-select chain is paid once per step of 16 rays instead of once
+// per cell; the bits are the same as walking each ray alone.
 #pragma once
 
 #include <cstddef>
@@ -27,9 +27,10 @@ struct BlockMaskSink {
 };
 
 // Walks the rays from start to ends[3 * r .. 3 * r + 2] for r < count (cell
-// units, all finite) and sets the bit of every cell visited. Returns the
-// number of cells visited (repeats included). The order in which cells are
-// marked differs between levels; the bits set do not.
+// units, all finite, cells within +-2^24: the vector walks hold cells in
+// floats; the map's keys are below 2^20) and sets the bit of every cell
+// visited. Returns the number of cells visited (repeats included). The order
+// in which cells are marked differs between levels; the bits set do not.
 std::size_t mark_ray_cells(const double start[3], const double* ends, std::size_t count, const BlockMaskSink& sink,
                            SimdLevel level);
 

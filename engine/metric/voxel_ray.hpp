@@ -10,7 +10,7 @@
 
 namespace sarmap::metric {
 
-inline constexpr double kRayTieTolerance = kernels::kDdaTieTolerance;
+inline constexpr float kRayTieParameter = kernels::kDdaTieParameter;
 
 // start and end are in voxel units (coordinate / resolution, so voxel faces
 // are at integers). visit(const VoxelKey&) returns false to stop early.

@@ -173,5 +173,24 @@ TEST(RayMarking, LanesOfVeryDifferentLengthsAndFewRays) {
   }
 }
 
+TEST(RayMarking, FarFromTheOriginAndStartsOnTheEdgeOfACell) {
+  // The map's keys reach 10 km at 1 cm, 1e6 cells: the vector walks hold
+  // cells in floats, exact up to 2^24. Starts whose fraction rounds to 1 in
+  // float (kept below it by dda_setup) and ends a hair below a face.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> around(-60.0, 60.0);
+  for (const std::array<double, 3> start :
+       {std::array<double, 3>{999999.25, -999999.75, 1048000.5}, std::array<double, 3>{-1048575.5, 524287.999999999, 3.0},
+        std::array<double, 3>{7.999999999, -0.000000001, 0.99999999999}}) {
+    std::vector<double> ends;
+    for (int r = 0; r < 300; ++r) {
+      for (int i = 0; i < 3; ++i) ends.push_back(start[i] + around(rng));
+    }
+    for (int i = 0; i < 3; ++i) ends.push_back(std::floor(start[i]) - 1e-50);  // just into the cell below
+    for (int i = 0; i < 3; ++i) ends.push_back(std::floor(start[i]) + 1.0);    // on the face above
+    expect_same_cells(start, ends, "far or edge starts");
+  }
+}
+
 }  // namespace
 }  // namespace sarmap::kernels

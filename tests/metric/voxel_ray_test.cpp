@@ -136,14 +136,47 @@ TEST(VoxelRay, MatchesBruteForceClippingOnRandomSegments) {
 
 TEST(VoxelRay, LongRayFarFromTheOriginEndsExactly) {
   // 10 km at 0.01 m is 1e6 voxels; a ray there still ends in its end voxel.
+  // It crosses 800 + 400 + 288 faces; two of them (x at parameter
+  // 0.0558331, y at 0.0558338) are 6.3e-7 of the length apart, closer than
+  // the tie tolerance (2^-20 = 9.5e-7), so the walk steps them together:
+  // one voxel fewer than crossings.
   const double a[3] = {999000.3, -999000.7, 12.5}, b[3] = {999800.9, -999400.1, 300.2};
   VoxelKey last{};
   const std::size_t n = walk_ray(a, b, [&](const VoxelKey& k) {
     last = k;
     return true;
   });
-  EXPECT_EQ(n, std::size_t(800 + 400 + 288));
+  EXPECT_EQ(n, std::size_t(800 + 400 + 288 - 1));
   EXPECT_EQ(std::abs(last.x - 999800) + std::abs(last.y + 999401) + std::abs(last.z - 300), 1);
+}
+
+TEST(VoxelRay, CrossingsJustBeyondTheTieToleranceStepApart) {
+  // From (0.5, 0.5) to (1.5, 1.5 + 2 g) in the plane z = 0.5: the faces
+  // x = 1 and y = 1 are crossed at parameters 0.5 and 0.5 / (1 + 2 g), g
+  // apart to first order. 4 x the tolerance apart: two steps, through
+  // (0, 1) first (y crosses earlier); a tenth of it: one diagonal step,
+  // straight into the end voxel (1, 1).
+  const auto apart = walk({0.5, 0.5, 0.5}, {1.5, 1.5 + 8.0 * kRayTieParameter, 0.5});
+  ASSERT_EQ(apart.size(), 2u);
+  EXPECT_EQ(apart[1], (VoxelKey{0, 1, 0}));
+  EXPECT_EQ(walk({0.5, 0.5, 0.5}, {1.5, 1.5 + 0.2 * kRayTieParameter, 0.5}).size(), 1u);
+}
+
+TEST(VoxelRay, StartFractionsThatRoundToOneAndEndsJustBelowAFace) {
+  // 0.99999999999 rounds to 1.0 in float, as does an end on the face at 1:
+  // dda_setup keeps the start below 1, so the step to cell 1 has a finite
+  // crossing (else 0 x infinity, a NaN that never steps).
+  const auto up = walk({0.99999999999, 0.5, 0.5}, {1.0, 0.5, 0.5});
+  ASSERT_EQ(up.size(), 1u);
+  EXPECT_EQ(up.front(), (VoxelKey{0, 0, 0}));
+  // An end 1e-50 below the face at 0 lies in cell -1, but rounds to -0 in
+  // float; dda_setup keeps it below 0: one step, visiting cell 0 only.
+  const auto down = walk({0.5, 0.5, 0.5}, {-1e-50, 0.5, 0.5});
+  ASSERT_EQ(down.size(), 1u);
+  EXPECT_EQ(down.front(), (VoxelKey{0, 0, 0}));
+  // Both, on every axis, along the diagonal and back.
+  EXPECT_EQ(walk({0.99999999999, 0.99999999999, 0.99999999999}, {1.0, 1.0, 1.0}).size(), 1u);
+  EXPECT_EQ(walk({0.0, 0.0, 0.0}, {-1e-50, -1e-50, -1e-50}).size(), 1u);
 }
 
 }  // namespace
