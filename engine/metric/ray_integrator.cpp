@@ -7,12 +7,13 @@
 // masks, hits that override misses, blocks created in sorted key order;
 // (4) parallel updates, one block per task.
 //
-// A sequence of scans overlaps the two halves: scan k's rays are computed
-// while scan k - 1 is written into the map. That gives the second thread
-// work during pass 3's serial merge and evens out the joins of the parallel
-// passes, and the map is the same as integrating the scans one by one,
-// because the first half never reads the map and the second half runs one
-// scan at a time, in order.
+// A sequence of scans runs three scans at once: scan k + 1's end voxels are
+// found while scan k is walked and scan k - 1 is written into the map. The
+// serial parts (pass 1's merge, pass 3) then run beside parallel work
+// instead of leaving the second thread idle, and the joins of the parallel
+// passes even out. The map is the same as integrating the scans one by one,
+// because passes 1 and 2 never read the map and the updates run one scan at
+// a time, in order.
 #include "engine/metric/ray_integrator.hpp"
 
 #include <algorithm>
@@ -32,8 +33,9 @@
 namespace sarmap::metric {
 
 struct RayIntegrator::Scratch {
-  // Two, so that scan k's can be computed while scan k - 1's is applied.
-  std::array<ScanRays, 2> rays;
+  // Three, so that scan k + 1's ends can be found while scan k is walked
+  // and scan k - 1 is applied.
+  std::array<ScanRays, 3> rays;
   ScanUpdate update;
 };
 
@@ -92,20 +94,49 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
   }
   // The resolution is read once: the map is being written while scans' rays are computed.
   const double resolution = map.resolution();
-  tbb::task_group writing;  // at most one scan's update at a time
+  const auto named = [](std::size_t k, const Error& e) {
+    return Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
+  };
+  if (scans.empty()) return stats;
+  try {
+    s.rays[0].find_ends(settings_, resolution, scans[0].points, scans[0].origin, stats[0]);
+  } catch (const Error& e) {
+    throw named(0, e);
+  }
+  tbb::task_group writing;  // scan k - 1's update, at most one at a time
+  tbb::task_group finding;  // scan k + 1's end voxels
   for (std::size_t k = 0; k < scans.size(); ++k) {
-    ScanRays& rays = s.rays[k % 2];
+    // Scan k + 1 takes the rays of scan k - 2, whose update ended in the last round.
+    std::exception_ptr find_error;
+    if (k + 1 < scans.size()) {
+      finding.run([&, k] {
+        try {
+          s.rays[(k + 1) % 3].find_ends(settings_, resolution, scans[k + 1].points, scans[k + 1].origin,
+                                        stats[k + 1]);
+        } catch (...) {
+          find_error = std::current_exception();
+        }
+      });
+    }
+    ScanRays& rays = s.rays[k % 3];
     try {
-      rays.compute(settings_, resolution, scans[k].points, scans[k].origin, stats[k]);
-    } catch (const Error& e) {
-      writing.wait();  // scans before k are in the map, nothing of scan k
-      throw Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
+      rays.walk(settings_, stats[k]);
     } catch (...) {
+      finding.wait();
       writing.wait();
       throw;
     }
-    // Scan k - 1 in the map frees its rays (s.rays[(k + 1) % 2]) for scan k + 1.
-    writing.wait();
+    finding.wait();
+    writing.wait();  // scan k - 1 is in the map
+    if (find_error) {
+      // Scans 0 .. k go into the map; nothing of scan k + 1 did.
+      s.update.apply(map, rays, stats[k]);
+      try {
+        std::rethrow_exception(find_error);
+      } catch (const Error& e) {
+        throw named(k + 1, e);
+      }
+    }
     writing.run([&s, &map, &rays, &stats, k] { s.update.apply(map, rays, stats[k]); });
   }
   writing.wait();

@@ -107,8 +107,8 @@ struct RayCutter {
 
 }  // namespace
 
-void ScanRays::compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                       const Eigen::Vector3d& origin, IntegrationStats& stats) {
+void ScanRays::find_ends(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                         const Eigen::Vector3d& origin, IntegrationStats& stats) {
   if (!within_map_limits(origin.x(), origin.y(), origin.z())) {
     throw Error(ErrorCode::OutOfRange, "ray integrator: sensor origin (" + std::to_string(origin.x()) + ", " +
                                            std::to_string(origin.y()) + ", " + std::to_string(origin.z()) +
@@ -116,9 +116,8 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
   }
   stats.points_in += points.size();
   const double inv_res = 1.0 / resolution;
-  const RayEnd o{origin.x() * inv_res, origin.y() * inv_res, origin.z() * inv_res};
-  find_end_voxels(settings, resolution, points, o, stats);
-  walk(settings, o, stats);
+  origin_ = {origin.x() * inv_res, origin.y() * inv_res, origin.z() * inv_res};
+  find_end_voxels(settings, resolution, points, stats);
 }
 
 // Pass 1: distinct end voxels, their observations, and the rays: keys,
@@ -126,7 +125,8 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
 // concatenated in chunk order), then the groups merged in chunk order, so
 // nothing depends on the thread count.
 void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                               const RayEnd& o, IntegrationStats& stats) {
+                               IntegrationStats& stats) {
+  const RayEnd& o = origin_;
   const double inv_res = 1.0 / resolution;
   const RayCutter cutter{o, resolution, settings.max_range, settings.max_range * inv_res,
                          settings.clear_beyond_max_range};
@@ -232,7 +232,8 @@ void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolu
 
 // Pass 2: parallel walks into per-thread miss masks (several rays per step
 // in SIMD lanes where the CPU has AVX2 or AVX-512).
-void ScanRays::walk(const IntegratorSettings& settings, const RayEnd& o, IntegrationStats& stats) {
+void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats) {
+  const RayEnd& o = origin_;
   for (ThreadMisses& t : threads_) {
     t.clear();
     if (dense_dirty_) std::fill(t.dense.begin(), t.dense.end(), 0);

@@ -4,8 +4,8 @@
 // class observations, and one ray per end voxel (or per point when not
 // discretising); pass 2 walks the rays and sets a bit for every voxel they
 // cross in per-thread block masks. Because nothing here touches the map,
-// one scan's ScanRays can be computed while the scan before is still being
-// written into the map (RayIntegrator::integrate_sequence).
+// one scan's ScanRays can be computed while the scans before are still being
+// walked or written into the map (RayIntegrator::integrate_sequence).
 #pragma once
 
 #include <array>
@@ -61,7 +61,16 @@ class ScanRays {
   // label that is not a class id (InvalidData). Parallel over the calling
   // thread's oneTBB arena; the results do not depend on its thread count.
   void compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-               const Eigen::Vector3d& origin, IntegrationStats& stats);
+               const Eigen::Vector3d& origin, IntegrationStats& stats) {
+    find_ends(settings, resolution, points, origin, stats);
+    walk(settings, stats);
+  }
+  // compute() in its two passes, for a pipeline that finds one scan's end
+  // voxels while the scan before is walked: pass 1 (throws as compute()
+  // does), then pass 2 for the same scan (voxel_visits and the dense count).
+  void find_ends(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                 const Eigen::Vector3d& origin, IntegrationStats& stats);
+  void walk(const IntegratorSettings& settings, IntegrationStats& stats);
 
   // The distinct end voxels and their observations, in a fixed order.
   const EndVoxelGroups& ends() const { return ends_; }
@@ -88,9 +97,9 @@ class ScanRays {
   };
 
   void find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                       const RayEnd& origin, IntegrationStats& stats);
-  void walk(const IntegratorSettings& settings, const RayEnd& origin, IntegrationStats& stats);
+                       IntegrationStats& stats);
 
+  RayEnd origin_{};  // the scan's sensor origin in voxel units, from find_ends()
   std::vector<PointChunk> chunks_;
   std::vector<LocalEndGroups> local_groups_;  // per chunk
   EndVoxelGroups ends_;
