@@ -4,13 +4,13 @@
 // ray's DdaState (dda_walk.hpp) and steps it with the same operations as
 // dda_step(), so every lane visits exactly the cells the scalar walk visits.
 // Cells are held as floats too (integers below 2^24 are exact in a float).
-// A lane whose ray reaches its end cell takes the next ray, from a stretch
-// of the rays far from its neighbours' (below). walk_ray_lanes() does that
-// and hands each step's cells to a marker, which finds the word and bit of
-// each lane's cell in vector code and ORs them in scalar code one step
-// later: a scalar load right after the vector store of the same step waited
-// for the store to commit (store forwarding does not split a vector store),
-// which cost more than the step itself. Two markers: BlockSinkMarker asks a
+// A lane whose ray reaches its end cell takes the next ray, set up ahead in
+// a RayStage. walk_ray_lanes() does that and hands each step's cells to a
+// marker, which finds the word and bit of each lane's cell in vector code
+// and ORs them in scalar code one step later: a scalar load right after the
+// vector store of the same step waited for the store to commit (store
+// forwarding does not split a vector store), which cost more than the step
+// itself. Two markers: BlockSinkMarker asks a
 // sink for a lane's block when the lane enters a new one (one step in eight
 // or so); DenseGridMarker computes the word in a dense grid of blocks and
 // needs no look-up at all.
@@ -18,6 +18,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -42,8 +43,64 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
   }
 }
 
+// Rays set up ahead for the lanes, field by field: the 21 floats of a
+// DdaState in lanes' form (cells as floats), for up to kCapacity rays, taken
+// from the call's rays in the order 0, stretch, 2 stretch, ..., 1,
+// stretch + 1, ... (N stretches). Consecutive rays (neighbouring pixels) run
+// nearly parallel; as neighbouring lanes they would mark the same mask word
+// in the same step, each OR waiting for the one before (with float lanes,
+// marking became half of the walk; this order cut the walk by 8 %, PERF.md).
+template <std::size_t N>
+class RayStage {
+ public:
+  static constexpr int kFields = 21;  // v, last, step, face, inv, t, next, 3 axes each
+  static constexpr std::size_t kCapacity = 4 * N;
+
+  RayStage(const double start[3], const double* ends, std::size_t count)
+      : start_(start), ends_(ends), count_(count), stretch_((count + N - 1) / N) {}
+
+  // Rays ready from field(f)[0] on; tops up first if fewer than wanted.
+  std::size_t ready(std::size_t wanted) {
+    if (staged_ - cursor_ < wanted) top_up();
+    return staged_ - cursor_;
+  }
+  const float* field(int f) const { return &fields_[f][cursor_]; }
+  void take(std::size_t n) { cursor_ += n; }
+
+ private:
+  // Moves what is left to the front and sets up rays that visit anything
+  // until full or out of rays.
+  void top_up() {
+    for (auto& f : fields_) std::copy(f + cursor_, f + staged_, f);
+    staged_ -= cursor_;
+    cursor_ = 0;
+    while (staged_ < kCapacity && taken_ < stretch_ * N) {
+      const std::size_t k = taken_++;
+      const std::size_t r = (k % N) * stretch_ + k / N;
+      if (r >= count_) continue;
+      const DdaState s = dda_setup(start_, ends_ + 3 * r);
+      if (!s.moves) continue;
+      for (int i = 0; i < 3; ++i) {
+        fields_[0 + i][staged_] = static_cast<float>(s.v[i]);
+        fields_[3 + i][staged_] = static_cast<float>(s.last[i]);
+        fields_[6 + i][staged_] = static_cast<float>(s.step[i]);
+        fields_[9 + i][staged_] = s.face[i];
+        fields_[12 + i][staged_] = s.inv[i];
+        fields_[15 + i][staged_] = s.t[i];
+        fields_[18 + i][staged_] = s.next[i];
+      }
+      ++staged_;
+    }
+  }
+
+  const double* start_;
+  const double* ends_;
+  std::size_t count_, stretch_, taken_ = 0, staged_ = 0, cursor_ = 0;
+  alignas(64) float fields_[kFields][kCapacity];
+};
+
 // Walks the rays to ends[3 r ..] from start, N at a time, calling
-// marker.record(cells, active, buffer) with each step's cells (a vector per
+// marker.record(cells, active, buffer) with each step's cells (3 vectors, one per
 // axis, lanes not in active hold nothing to mark) and then marker.mark(other
 // buffer) to mark the step before. Returns the cells visited.
 template <class Arch, class Marker>
@@ -53,78 +110,70 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   constexpr float kInf = std::numeric_limits<float>::infinity();
   static_assert(N <= 16, "lane sets are bits of an unsigned");
 
-  // The lanes' states, by field and axis; the loop keeps them in registers
-  // and goes through these arrays only when a lane changes ray. The start
-  // relative to its cell is the same for every ray (dda_setup() depends on
-  // the start alone for it).
-  alignas(64) float v[3][N], last[3][N], step[3][N], face[3][N], inv[3][N], t[3][N], next[3][N];
+  // The lanes' states in registers, field by field in RayStage's order. A
+  // parked lane (no ray left) sits on cell (0, 0, 0) with nothing to step:
+  // all zero but t = +inf. The start relative to its cell is the same for
+  // every ray (dda_setup() computes it from the start alone).
+  D state[RayStage<N>::kFields];
+#pragma GCC unroll 21
+  for (int f = 0; f < RayStage<N>::kFields; ++f) state[f] = D(f >= 15 && f < 18 ? kInf : 0.0f);
+  D* const vv = state + 0;
+  D* const lastv = state + 3;
+  D* const stepv = state + 6;
+  D* const facev = state + 9;
+  D* const invv = state + 12;
+  D* const tv = state + 15;
+  D* const nextv = state + 18;
   const DdaState at_start = dda_setup(start, start);
-  unsigned active = 0;
-  std::size_t next_ray = 0, visits = 0, parity = 0;
-  // Rays are taken in the order 0, stretch, 2 stretch, ..., 1, stretch + 1,
-  // ...: consecutive rays (neighbouring pixels) run nearly parallel, and as
-  // neighbouring lanes they would mark the same mask word in the same step,
-  // each OR waiting for the one before. With float lanes, marking became
-  // half of the walk; this order cut the walk by 8 % (PERF.md).
-  const std::size_t stretch = (count + N - 1) / N;
-  const std::size_t total = stretch * N;
-
-  // Gives lane the next ray that visits anything, or parks it (no ray left):
-  // a parked lane sits on cell (0, 0, 0) with nothing to step.
-  const auto load_lane = [&](std::size_t lane) {
-    while (next_ray < total) {
-      const std::size_t k = next_ray++;
-      const std::size_t r = (k % N) * stretch + k / N;
-      if (r >= count) continue;
-      const DdaState s = dda_setup(start, ends + 3 * r);
-      if (!s.moves) continue;
-      for (int i = 0; i < 3; ++i) {
-        v[i][lane] = static_cast<float>(s.v[i]);
-        last[i][lane] = static_cast<float>(s.last[i]);
-        step[i][lane] = static_cast<float>(s.step[i]);
-        face[i][lane] = s.face[i];
-        inv[i][lane] = s.inv[i];
-        t[i][lane] = s.t[i];
-        next[i][lane] = s.next[i];
-      }
-      active |= 1u << lane;
-      return;
-    }
-    for (int i = 0; i < 3; ++i) {
-      v[i][lane] = last[i][lane] = step[i][lane] = face[i][lane] = inv[i][lane] = next[i][lane] = 0.0f;
-      t[i][lane] = kInf;
-    }
-    active &= ~(1u << lane);
-  };
-  for (std::size_t lane = 0; lane < N; ++lane) load_lane(lane);
-  if (active == 0) return 0;
-
-  D vv[3], lastv[3], stepv[3], facev[3], invv[3], tv[3], nextv[3];
-  const auto load_state = [&] {
-    for (int i = 0; i < 3; ++i) {
-      vv[i] = D::load_aligned(v[i]);
-      lastv[i] = D::load_aligned(last[i]);
-      stepv[i] = D::load_aligned(step[i]);
-      facev[i] = D::load_aligned(face[i]);
-      invv[i] = D::load_aligned(inv[i]);
-      tv[i] = D::load_aligned(t[i]);
-      nextv[i] = D::load_aligned(next[i]);
-    }
-  };
-  const auto store_state = [&] {
-    for (int i = 0; i < 3; ++i) {
-      vv[i].store_aligned(v[i]);
-      lastv[i].store_aligned(last[i]);
-      stepv[i].store_aligned(step[i]);
-      facev[i].store_aligned(face[i]);
-      invv[i].store_aligned(inv[i]);
-      tv[i].store_aligned(t[i]);
-      nextv[i].store_aligned(next[i]);
-    }
-  };
-  load_state();
   const D startv[3] = {D(at_start.start[0]), D(at_start.start[1]), D(at_start.start[2])};
   const D inf(kInf), tie(kDdaTieParameter);
+  RayStage<N> stage(start, ends, count);
+  unsigned active = 0;
+  std::size_t visits = 0, parity = 0;
+
+  // Gives the lanes in `lanes` the next staged rays, and parks those left
+  // without one.
+  const auto refill = [&](unsigned lanes) {
+    const std::size_t ready = stage.ready(static_cast<std::size_t>(std::popcount(lanes)));
+    unsigned fill = lanes;  // the lowest `ready` of them
+    while (static_cast<std::size_t>(std::popcount(fill)) > ready) fill &= ~(1u << (31 - std::countl_zero(fill)));
+#if defined(__AVX512F__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
+      // Straight into the registers: an expanding load per field puts the
+      // next rays into the masked lanes, in order. With 16 lanes a lane
+      // changes ray every few steps; the trip of the whole state through
+      // memory that AVX2 takes below made the walk 25-27 ms instead of
+      // 19-20 (PERF.md).
+      const auto m = static_cast<__mmask16>(fill), park = static_cast<__mmask16>(lanes & ~fill);
+#pragma GCC unroll 21
+      for (int f = 0; f < RayStage<N>::kFields; ++f) {
+        state[f] = D(_mm512_mask_expandloadu_ps(state[f], m, stage.field(f)));
+        if (park != 0) state[f] = D(_mm512_mask_mov_ps(state[f], park, _mm512_set1_ps(f >= 15 && f < 18 ? kInf : 0.0f)));
+      }
+    } else
+#endif
+    {
+      // Through memory: AVX2 has no expanding load.
+      alignas(64) float lane_values[RayStage<N>::kFields][N];
+#pragma GCC unroll 21
+      for (int f = 0; f < RayStage<N>::kFields; ++f) state[f].store_aligned(lane_values[f]);
+      std::size_t taken = 0;
+      for (unsigned bits = lanes; bits != 0; bits &= bits - 1) {
+        const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
+        const bool parks = ((fill >> lane) & 1u) == 0;
+        for (int f = 0; f < RayStage<N>::kFields; ++f) {
+          lane_values[f][lane] = parks ? (f >= 15 && f < 18 ? kInf : 0.0f) : stage.field(f)[taken];
+        }
+        taken += parks ? 0 : 1;
+      }
+#pragma GCC unroll 21
+      for (int f = 0; f < RayStage<N>::kFields; ++f) state[f] = D::load_aligned(lane_values[f]);
+    }
+    stage.take(static_cast<std::size_t>(std::popcount(fill)));
+    active = (active & ~lanes) | fill;
+  };
+  refill((N == 16 ? 0xffffu : (1u << N) - 1u));
+  if (active == 0) return 0;
 
   while (true) {
     marker.record(vv, active, parity);
@@ -144,10 +193,8 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
     const unsigned arrived =
         lane_bits<Arch>((vv[0] == lastv[0]) && (vv[1] == lastv[1]) && (vv[2] == lastv[2])) & active;
     if (arrived != 0) {
-      store_state();
-      for (unsigned bits = arrived; bits != 0; bits &= bits - 1) load_lane(static_cast<std::size_t>(std::countr_zero(bits)));
+      refill(arrived);
       if (active == 0) break;
-      load_state();
     }
   }
   marker.mark(parity ^ 1);  // the last step's marks (the loop left before marking them)
@@ -165,7 +212,7 @@ class BlockSinkMarker {
     for (int i = 0; i < 3; ++i) block_[i] = D(std::numeric_limits<float>::quiet_NaN());
   }
 
-  void record(const D (&cell)[3], unsigned active, std::size_t buffer) {
+  void record(const D* cell, unsigned active, std::size_t buffer) {
     // Cell coordinates are integers below 2^24 in floats, so the block
     // (floor of a division by 8) and the place in it are exact.
     D b[3], in_block[3];
@@ -234,7 +281,7 @@ class DenseGridMarker {
         blocks_x_(grid.blocks[0]),
         blocks_y_(grid.blocks[1]) {}
 
-  void record(const D (&cell)[3], unsigned active, std::size_t buffer) {
+  void record(const D* cell, unsigned active, std::size_t buffer) {
     D b[3], in_block[3];
     for (int i = 0; i < 3; ++i) {
       b[i] = xsimd::floor(cell[i] * D(0.125f));
