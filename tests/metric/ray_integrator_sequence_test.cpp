@@ -1,7 +1,9 @@
-// integrate_sequence(), which walks one scan's rays while the scan before is
-// written into the map: the same map and per-scan figures as integrate() on
-// each scan in turn, for 1 and 2 threads and every scratch path; an error in
-// one scan leaves exactly the scans before it in the map.
+// integrate_sequence(), which walks one scan's rays while the next one's end
+// voxels are found and the one before is written into the map: the same map
+// and per-scan figures as integrate() on each scan in turn, for 1 and 2
+// threads and every scratch path; an error in any scan (the first, the
+// second, one in the middle, the last) leaves exactly the scans before it in
+// the map.
 #include "engine/metric/ray_integrator.hpp"
 
 #include <gtest/gtest.h>
@@ -113,35 +115,40 @@ TEST(RayIntegratorSequence, EmptySequenceLeavesTheMapAlone) {
   EXPECT_TRUE(map.blocks().empty());
 }
 
-// A bad scan in the middle: the error names the scan and what is wrong, and
-// the map holds the scans before it, fully, and nothing of it or after it.
+// A bad scan: the error names the scan and what is wrong, and the map holds
+// the scans before it, fully, and nothing of it or after it. The first scan
+// fails before the pipeline starts, the second while the first is walked,
+// the last when nothing comes after it.
 TEST(RayIntegratorSequence, ErrorInOneScanKeepsExactlyTheScansBeforeIt) {
-  for (const bool bad_origin : {false, true}) {
-    for (const int threads : {1, 2}) {
-      SCOPED_TRACE(::testing::Message() << threads << " threads, bad " << (bad_origin ? "origin" : "label"));
-      std::vector<Scan> scans = room_scans(6, 64, 48);
-      if (bad_origin) {
-        scans[3].origin = {std::nan(""), 0.0, 1.0};
-      } else {
-        scans[3].points.labels()[100] = 7;
-      }
-      tbb::task_arena arena(threads);
-      MetricMap map(settings_at_resolution(0.05)), first_three(settings_at_resolution(0.05));
-      RayIntegrator integrator, reference;
-      arena.execute([&] {
-        try {
-          integrator.integrate_sequence(map, scans);
-          ADD_FAILURE() << "expected an error";
-        } catch (const Error& e) {
-          EXPECT_EQ(e.code(), bad_origin ? ErrorCode::OutOfRange : ErrorCode::InvalidData);
-          const std::string what = e.what();
-          EXPECT_EQ(what.rfind("scan 3: ", 0), 0u) << what;
-          EXPECT_NE(what.find(bad_origin ? "sensor origin" : "point 100 has label 7"), std::string::npos) << what;
+  for (const std::size_t bad : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{5}}) {
+    for (const bool bad_origin : {false, true}) {
+      for (const int threads : {1, 2}) {
+        SCOPED_TRACE(::testing::Message() << "scan " << bad << ", " << threads << " threads, bad "
+                                          << (bad_origin ? "origin" : "label"));
+        std::vector<Scan> scans = room_scans(6, 64, 48);
+        if (bad_origin) {
+          scans[bad].origin = {std::nan(""), 0.0, 1.0};
+        } else {
+          scans[bad].points.labels()[100] = 7;
         }
-      });
-      for (int k = 0; k < 3; ++k) reference.integrate(first_three, scans[k].points, scans[k].origin);
-      EXPECT_TRUE(maps_identical(map, first_three));
-      EXPECT_FALSE(map.blocks().empty());
+        tbb::task_arena arena(threads);
+        MetricMap map(settings_at_resolution(0.05)), before(settings_at_resolution(0.05));
+        RayIntegrator integrator, reference;
+        arena.execute([&] {
+          try {
+            integrator.integrate_sequence(map, scans);
+            ADD_FAILURE() << "expected an error";
+          } catch (const Error& e) {
+            EXPECT_EQ(e.code(), bad_origin ? ErrorCode::OutOfRange : ErrorCode::InvalidData);
+            const std::string what = e.what();
+            EXPECT_EQ(what.rfind("scan " + std::to_string(bad) + ": ", 0), 0u) << what;
+            EXPECT_NE(what.find(bad_origin ? "sensor origin" : "point 100 has label 7"), std::string::npos) << what;
+          }
+        });
+        for (std::size_t k = 0; k < bad; ++k) reference.integrate(before, scans[k].points, scans[k].origin);
+        EXPECT_TRUE(maps_identical(map, before));
+        EXPECT_EQ(map.blocks().empty(), bad == 0);
+      }
     }
   }
 }
