@@ -10,10 +10,9 @@
 // and ORs them in scalar code one step later: a scalar load right after the
 // vector store of the same step waited for the store to commit (store
 // forwarding does not split a vector store), which cost more than the step
-// itself. Two markers: BlockSinkMarker asks a
-// sink for a lane's block when the lane enters a new one (one step in eight
-// or so); DenseGridMarker computes the word in a dense grid of blocks and
-// needs no look-up at all.
+// itself. Two markers: BlockSinkMarker asks a sink for a lane's block when
+// the lane enters a new one (one step in eight or so); DenseGridMarker
+// computes the word in a dense grid of blocks and needs no look-up at all.
 #pragma once
 
 #include <xsimd/xsimd.hpp>
@@ -53,8 +52,15 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
 template <std::size_t N>
 class RayStage {
  public:
-  static constexpr int kFields = 21;  // v, last, step, face, inv, t, next, 3 axes each
+  // Where each DdaState field's three axes start among the fields.
+  static constexpr int kV = 0, kLast = 3, kStep = 6, kFace = 9, kInv = 12, kT = 15, kNext = 18, kFields = 21;
   static constexpr std::size_t kCapacity = 4 * N;
+
+  // Field f of a parked lane (no ray left): on cell (0, 0, 0) with nothing
+  // to step, all zero but t = +inf.
+  static constexpr float parked(int f) {
+    return f >= kT && f < kT + 3 ? std::numeric_limits<float>::infinity() : 0.0f;
+  }
 
   RayStage(const double start[3], const double* ends, std::size_t count)
       : start_(start), ends_(ends), count_(count), stretch_((count + N - 1) / N) {}
@@ -81,13 +87,13 @@ class RayStage {
       const DdaState s = dda_setup(start_, ends_ + 3 * r);
       if (!s.moves) continue;
       for (int i = 0; i < 3; ++i) {
-        fields_[0 + i][staged_] = static_cast<float>(s.v[i]);
-        fields_[3 + i][staged_] = static_cast<float>(s.last[i]);
-        fields_[6 + i][staged_] = static_cast<float>(s.step[i]);
-        fields_[9 + i][staged_] = s.face[i];
-        fields_[12 + i][staged_] = s.inv[i];
-        fields_[15 + i][staged_] = s.t[i];
-        fields_[18 + i][staged_] = s.next[i];
+        fields_[kV + i][staged_] = static_cast<float>(s.v[i]);
+        fields_[kLast + i][staged_] = static_cast<float>(s.last[i]);
+        fields_[kStep + i][staged_] = static_cast<float>(s.step[i]);
+        fields_[kFace + i][staged_] = s.face[i];
+        fields_[kInv + i][staged_] = s.inv[i];
+        fields_[kT + i][staged_] = s.t[i];
+        fields_[kNext + i][staged_] = s.next[i];
       }
       ++staged_;
     }
@@ -100,9 +106,9 @@ class RayStage {
 };
 
 // Walks the rays to ends[3 r ..] from start, N at a time, calling
-// marker.record(cells, active, buffer) with each step's cells (3 vectors, one per
-// axis, lanes not in active hold nothing to mark) and then marker.mark(other
-// buffer) to mark the step before. Returns the cells visited.
+// marker.record(cells, active, buffer) with each step's cells (3 vectors,
+// one per axis, lanes not in active hold nothing to mark) and then
+// marker.mark(other buffer) to mark the step before. Returns the cells visited.
 template <class Arch, class Marker>
 std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_t count, Marker& marker) {
   using D = xsimd::batch<float, Arch>;
@@ -110,24 +116,24 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   constexpr float kInf = std::numeric_limits<float>::infinity();
   static_assert(N <= 16, "lane sets are bits of an unsigned");
 
-  // The lanes' states in registers, field by field in RayStage's order. A
-  // parked lane (no ray left) sits on cell (0, 0, 0) with nothing to step:
-  // all zero but t = +inf. The start relative to its cell is the same for
+  // The lanes' states in registers, field by field in RayStage's order, all
+  // parked to begin with. The start relative to its cell is the same for
   // every ray (dda_setup() computes it from the start alone).
-  D state[RayStage<N>::kFields];
+  using Stage = RayStage<N>;
+  D state[Stage::kFields];
 #pragma GCC unroll 21
-  for (int f = 0; f < RayStage<N>::kFields; ++f) state[f] = D(f >= 15 && f < 18 ? kInf : 0.0f);
-  D* const vv = state + 0;
-  D* const lastv = state + 3;
-  D* const stepv = state + 6;
-  D* const facev = state + 9;
-  D* const invv = state + 12;
-  D* const tv = state + 15;
-  D* const nextv = state + 18;
+  for (int f = 0; f < Stage::kFields; ++f) state[f] = D(Stage::parked(f));
+  D* const vv = state + Stage::kV;
+  D* const lastv = state + Stage::kLast;
+  D* const stepv = state + Stage::kStep;
+  D* const facev = state + Stage::kFace;
+  D* const invv = state + Stage::kInv;
+  D* const tv = state + Stage::kT;
+  D* const nextv = state + Stage::kNext;
   const DdaState at_start = dda_setup(start, start);
   const D startv[3] = {D(at_start.start[0]), D(at_start.start[1]), D(at_start.start[2])};
   const D inf(kInf), tie(kDdaTieParameter);
-  RayStage<N> stage(start, ends, count);
+  Stage stage(start, ends, count);
   unsigned active = 0;
   std::size_t visits = 0, parity = 0;
 
@@ -146,28 +152,26 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
       // 19-20 (PERF.md).
       const auto m = static_cast<__mmask16>(fill), park = static_cast<__mmask16>(lanes & ~fill);
 #pragma GCC unroll 21
-      for (int f = 0; f < RayStage<N>::kFields; ++f) {
+      for (int f = 0; f < Stage::kFields; ++f) {
         state[f] = D(_mm512_mask_expandloadu_ps(state[f], m, stage.field(f)));
-        if (park != 0) state[f] = D(_mm512_mask_mov_ps(state[f], park, _mm512_set1_ps(f >= 15 && f < 18 ? kInf : 0.0f)));
+        if (park != 0) state[f] = D(_mm512_mask_mov_ps(state[f], park, _mm512_set1_ps(Stage::parked(f))));
       }
     } else
 #endif
     {
       // Through memory: AVX2 has no expanding load.
-      alignas(64) float lane_values[RayStage<N>::kFields][N];
+      alignas(64) float lane_values[Stage::kFields][N];
 #pragma GCC unroll 21
-      for (int f = 0; f < RayStage<N>::kFields; ++f) state[f].store_aligned(lane_values[f]);
+      for (int f = 0; f < Stage::kFields; ++f) state[f].store_aligned(lane_values[f]);
       std::size_t taken = 0;
       for (unsigned bits = lanes; bits != 0; bits &= bits - 1) {
         const auto lane = static_cast<std::size_t>(std::countr_zero(bits));
         const bool parks = ((fill >> lane) & 1u) == 0;
-        for (int f = 0; f < RayStage<N>::kFields; ++f) {
-          lane_values[f][lane] = parks ? (f >= 15 && f < 18 ? kInf : 0.0f) : stage.field(f)[taken];
-        }
+        for (int f = 0; f < Stage::kFields; ++f) lane_values[f][lane] = parks ? Stage::parked(f) : stage.field(f)[taken];
         taken += parks ? 0 : 1;
       }
 #pragma GCC unroll 21
-      for (int f = 0; f < RayStage<N>::kFields; ++f) state[f] = D::load_aligned(lane_values[f]);
+      for (int f = 0; f < Stage::kFields; ++f) state[f] = D::load_aligned(lane_values[f]);
     }
     stage.take(static_cast<std::size_t>(std::popcount(fill)));
     active = (active & ~lanes) | fill;

@@ -79,6 +79,9 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
   // The arena's threads, as limited by an arena of one or a global_control.
   const std::size_t threads = std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
                                        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const auto named = [](std::size_t k, const Error& e) {
+    return Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
+  };
   if (threads <= 1) {
     // Nothing to overlap with one thread, and a scan's update is faster
     // right after its rays, while they are in cache (overlapped, 1 thread
@@ -87,16 +90,13 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
       try {
         stats[k] = integrate(map, scans[k].points, scans[k].origin);
       } catch (const Error& e) {
-        throw Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
+        throw named(k, e);
       }
     }
     return stats;
   }
   // The resolution is read once: the map is being written while scans' rays are computed.
   const double resolution = map.resolution();
-  const auto named = [](std::size_t k, const Error& e) {
-    return Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
-  };
   if (scans.empty()) return stats;
   try {
     s.rays[0].find_ends(settings_, resolution, scans[0].points, scans[0].origin, stats[0]);
