@@ -13,6 +13,8 @@ packages=(
   libcli11-dev
   # tests and benchmarks (OctoMap is a peer compared against, not a dependency)
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
+  # tests only: Boost Graph Library's Kruskal, compared against in tests/topo
+  libboost-graph-dev
 )
 
 # Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by
