@@ -1,4 +1,4 @@
-// The integrator's scratch key table (engine/metric/flat_key_index.hpp)
+// The integrator's scratch key table (engine/core/flat_key_index.hpp)
 // against the well-kept alternatives on the same look-up stream: the end-voxel
 // dedupe of pass 1, i.e. one find-or-insert per point of a scan at 0.05 m and
 // a clear between scans, over the first 16 frames of the default arena.
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bench/metric/sequence_fixture.hpp"
-#include "engine/metric/flat_key_index.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/voxel_key.hpp"
 
 namespace {
@@ -42,7 +42,7 @@ void report(benchmark::State& state, std::size_t distinct) {
 
 void BM_FlatKeyIndex(benchmark::State& state) {
   const auto& frames = key_stream();
-  sarmap::metric::FlatKeyIndex table(65536);
+  sarmap::FlatKeyIndex table(65536);
   std::size_t distinct = 0;
   for (auto _ : state) {
     distinct = 0;
@@ -74,7 +74,7 @@ void BM_StdUnorderedMap(benchmark::State& state) {
 }
 
 struct TbbKeyHash {
-  static std::size_t hash(std::uint64_t k) { return static_cast<std::size_t>(sarmap::metric::mix_key(k)); }
+  static std::size_t hash(std::uint64_t k) { return static_cast<std::size_t>(sarmap::mix_key(k)); }
   static bool equal(std::uint64_t a, std::uint64_t b) { return a == b; }
 };
 

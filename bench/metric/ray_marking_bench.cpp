@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bench/metric/sequence_fixture.hpp"
-#include "engine/metric/flat_key_index.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/voxel_key.hpp"
 #include "kernels/ray_marking.hpp"
 
@@ -36,7 +36,7 @@ const std::vector<FrameRays>& frame_rays() {
     FrameRays& rays = frames.emplace_back();
     rays.origin = {scans[f].origin.x() * kInvResolution, scans[f].origin.y() * kInvResolution,
                    scans[f].origin.z() * kInvResolution};
-    sarmap::metric::FlatKeyIndex seen(65536);
+    sarmap::FlatKeyIndex seen(65536);
     for (std::size_t i = 0; i < p.size(); ++i) {
       const auto key = sarmap::metric::key_of(p.x()[i], p.y()[i], p.z()[i], kInvResolution);
       if (seen.find_or_insert(sarmap::metric::pack(key)) + 1 != seen.size()) continue;
@@ -48,7 +48,7 @@ const std::vector<FrameRays>& frame_rays() {
 
 // The integrator's per-thread sink, reduced: a key index and 8 words per block.
 struct Masks {
-  sarmap::metric::FlatKeyIndex blocks{4096};
+  sarmap::FlatKeyIndex blocks{4096};
   std::vector<std::uint64_t> words;
   std::uint64_t* base = nullptr;
   static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "engine/core/point_buffer.hpp"
-#include "engine/metric/flat_key_index.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/label_fusion.hpp"
 #include "engine/metric/voxel_key.hpp"
 

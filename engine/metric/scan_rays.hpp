@@ -19,7 +19,7 @@
 
 #include "engine/core/point_buffer.hpp"
 #include "engine/metric/end_voxel_groups.hpp"
-#include "engine/metric/flat_key_index.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/integration_settings.hpp"
 #include "kernels/ray_marking.hpp"
 

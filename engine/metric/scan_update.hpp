@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/metric/flat_key_index.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/integration_settings.hpp"
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/scan_rays.hpp"

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "engine/core/flat_key_index.hpp"
+
 namespace sarmap::metric {
 
 // Blocks are 8 x 8 x 8 voxels; a voxel's index inside its block is x + 8y + 64z.
@@ -69,17 +71,6 @@ inline BlockKey unpack_block(std::uint64_t word) {
           static_cast<std::int32_t>(static_cast<std::int64_t>((word >> kPackBits) & kPackMask) - kPackOffset),
           static_cast<std::int32_t>(static_cast<std::int64_t>((word >> (2 * kPackBits)) & kPackMask) -
                                     kPackOffset)};
-}
-
-// Finalizer of splitmix64: packed keys differ in few low bits, so they need
-// full avalanche before a power-of-two table masks them.
-inline std::uint64_t mix_key(std::uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return x;
 }
 
 struct PackedKeyHash {

@@ -1,17 +1,27 @@
 // An open-addressing table from packed 64-bit keys to dense indices 0..n-1 in
-// insertion order: the integrator's per-scan scratch (end-voxel dedupe, the
-// blocks a thread's rays touch). Hand-written because it sits in the ray loop
-// and bench/metric/key_table_bench.cpp measures it against std::unordered_map
-// and tbb::concurrent_hash_map on the same look-up stream; it only ever
-// grows and is cleared between scans, so it needs no deletion.
+// insertion order: the metric integrator's per-scan scratch (end-voxel
+// dedupe, the blocks a thread's rays touch) and the segment map's voxel index.
+// Hand-written because it sits in the ray loop and
+// bench/metric/key_table_bench.cpp measures it against std::unordered_map and
+// tbb::concurrent_hash_map on the same look-up stream; it only ever grows (or
+// is cleared), so it needs no deletion.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
-#include "engine/metric/voxel_key.hpp"
+namespace sarmap {
 
-namespace sarmap::metric {
+// Finalizer of splitmix64: packed keys differ in few low bits, so they need
+// full avalanche before a power-of-two table masks them.
+inline std::uint64_t mix_key(std::uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9ULL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebULL;
+  x ^= x >> 31;
+  return x;
+}
 
 class FlatKeyIndex {
  public:
@@ -89,4 +99,4 @@ class FlatKeyIndex {
   std::vector<std::uint64_t> keys_;
 };
 
-}  // namespace sarmap::metric
+}  // namespace sarmap
