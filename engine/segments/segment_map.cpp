@@ -1,0 +1,590 @@
+#include "engine/segments/segment_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/error.hpp"
+#include "engine/segments/plane_extraction.hpp"
+#include "engine/segments/plane_moments.hpp"
+#include "engine/segments/plane_rectangle.hpp"
+#include "engine/segments/plane_regions.hpp"
+#include "engine/segments/segment_merge.hpp"
+
+namespace sarmap::segments {
+
+SegmentUpdate& SegmentUpdate::operator+=(const SegmentUpdate& o) {
+  points_in += o.points_in;
+  points_rejected += o.points_rejected;
+  points_new += o.points_new;
+  points_changed += o.points_changed;
+  points_attached += o.points_attached;
+  planes_found += o.planes_found;
+  created += o.created;
+  merged += o.merged;
+  split += o.split;
+  removed += o.removed;
+  return *this;
+}
+
+// A segment with what it takes to grow it: running sums, its points and outline.
+struct SegmentMap::Record {
+  Segment view;
+  bool alive = true;
+  PlaneMoments moments;
+  // Sum of (sensor origin - point) over points seen from a known origin: the
+  // side a wall was seen from.
+  Eigen::Vector3d view_sum = Eigen::Vector3d::Zero();
+  // Point indices; entries that left (owner no longer this id) linger until compacted.
+  std::vector<std::uint32_t> members;
+  std::size_t stale = 0;
+  // The last outline's corner points plus the points joined since: the next
+  // outline is their convex hull, without revisiting every member.
+  std::vector<Eigen::Vector3f> outline;
+  Bounds box;
+  bool changed = false;
+  std::vector<std::uint32_t> left;  // points detached during this call
+};
+
+// One call's scratch.
+struct SegmentMap::Work {
+  SegmentUpdate update;
+  std::vector<std::uint32_t> fresh;  // points new, relabelled or moved in this call
+};
+
+namespace {
+
+constexpr std::int64_t kAlive = -1;
+constexpr std::int64_t kDissolved = -2;
+// Cells of the index that finds the segments a point may join, metres.
+constexpr double kIndexCell = 1.0;
+// Planes within this of level (45 degrees) have their normal up; steeper
+// ones face the side they were seen from.
+const double kLevelNormalZ = std::cos(std::numbers::pi / 4);
+
+std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
+  constexpr std::int64_t kHalf = std::int64_t{1} << 20;
+  return static_cast<std::uint64_t>((x + kHalf) & 0x1fffff) | (static_cast<std::uint64_t>((y + kHalf) & 0x1fffff) << 21) |
+         (static_cast<std::uint64_t>((z + kHalf) & 0x1fffff) << 42);
+}
+
+std::int64_t cell_of(double v) { return static_cast<std::int64_t>(std::floor(v / kIndexCell)); }
+
+bool walkable(const Segment& s) {
+  return (s.label == ClassId::Terrain || s.label == ClassId::FlatRamp || s.label == ClassId::InclinedRamp) &&
+         s.plane.normal.z() >= kLevelNormalZ;
+}
+
+Eigen::Vector3d oriented_normal(Eigen::Vector3d n, const Eigen::Vector3d& view_sum) {
+  if (std::abs(n.z()) >= kLevelNormalZ) return n.z() < 0 ? Eigen::Vector3d(-n) : n;
+  const double facing = n.dot(view_sum);
+  if (facing != 0) return facing < 0 ? Eigen::Vector3d(-n) : n;
+  // Never seen from a known origin: any fixed rule keeps it deterministic.
+  for (int axis : {2, 0, 1}) {
+    if (n[axis] != 0) return n[axis] < 0 ? Eigen::Vector3d(-n) : n;
+  }
+  return n;
+}
+
+bool boxes_near(const Bounds& a, const Bounds& b, double margin) {
+  return (a.min.array() - margin <= b.max.array()).all() && (b.min.array() - margin <= a.max.array()).all();
+}
+
+void require_labels(const PointBuffer& points) {
+  if (!points.has_labels()) throw Error(ErrorCode::InvalidArgument, "segments: the points carry no labels");
+}
+
+}  // namespace
+
+SegmentMap::SegmentMap(const SegmentSettings& settings) : settings_(settings), voxels_(settings.voxel) {
+  validate(settings_);
+}
+SegmentMap::~SegmentMap() = default;
+SegmentMap::SegmentMap(SegmentMap&&) noexcept = default;
+SegmentMap& SegmentMap::operator=(SegmentMap&&) noexcept = default;
+
+SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vector3d& origin) {
+  require_labels(points);
+  if (!origin.allFinite()) throw Error(ErrorCode::InvalidArgument, "segments: the scan's origin is not finite");
+  ++calls_;
+  const auto scan = static_cast<std::uint32_t>(origins_.size());
+  origins_.push_back(origin);
+  Work work;
+  const auto labels = points.labels();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto label = class_from_value(labels[i]);
+    if (!label || *label == ClassId::Unknown) continue;
+    const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+    if (!p.allFinite()) {
+      throw Error(ErrorCode::InvalidArgument, "segments: point " + std::to_string(i) + " is not finite");
+    }
+    ++work.update.points_in;
+    const std::optional<std::uint64_t> key = voxels_.key_of(p);
+    if (!key) {
+      ++work.update.points_rejected;
+      continue;
+    }
+    const auto range = static_cast<float>((p - origin).norm());
+    const std::optional<std::uint32_t> stored = voxels_.find(*key);
+    if (!stored) {
+      queue(work, voxels_.add(*key, p, *label, range, scan));
+      ++work.update.points_new;
+      continue;
+    }
+    const std::uint32_t k = *stored;
+    const auto before = static_cast<ClassId>(voxels_.label[k]);
+    const ClassId after = voxels_.vote(k, *label);
+    // A voxel that changes class takes this point, of the new class, as its
+    // own: a floor point labelled wall would tilt the wall's plane.
+    const bool replace = after != before || range < voxels_.range[k] * settings_.closer_view_ratio;
+    if (!replace) continue;
+    detach(k);
+    {
+      voxels_.x[k] = static_cast<float>(p.x());
+      voxels_.y[k] = static_cast<float>(p.y());
+      voxels_.z[k] = static_cast<float>(p.z());
+      voxels_.range[k] = range;
+      voxels_.scan[k] = scan;
+    }
+    ++work.update.points_changed;
+    queue(work, k);
+  }
+  return finish(work);
+}
+
+SegmentUpdate SegmentMap::reclassify(const PointBuffer& points) {
+  require_labels(points);
+  ++calls_;
+  Work work;
+  const auto labels = points.labels();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto label = class_from_value(labels[i]);
+    if (!label || *label == ClassId::Unknown) continue;
+    const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+    if (!p.allFinite()) {
+      throw Error(ErrorCode::InvalidArgument, "segments: point " + std::to_string(i) + " is not finite");
+    }
+    ++work.update.points_in;
+    const std::optional<std::uint64_t> key = voxels_.key_of(p);
+    if (!key) {
+      ++work.update.points_rejected;
+      continue;
+    }
+    const std::optional<std::uint32_t> stored = voxels_.find(*key);
+    if (!stored) {
+      queue(work, voxels_.add(*key, p, *label, std::numeric_limits<float>::infinity(), LabelledVoxels::kNoScan));
+      ++work.update.points_new;
+      continue;
+    }
+    if (static_cast<ClassId>(voxels_.label[*stored]) == *label) continue;
+    detach(*stored);
+    voxels_.set_label(*stored, *label);
+    ++work.update.points_changed;
+    queue(work, *stored);
+  }
+  return finish(work);
+}
+
+void SegmentMap::queue(Work& work, std::uint32_t point) {
+  if (queued_in_.size() < voxels_.size()) queued_in_.resize(voxels_.size(), 0);
+  if (queued_in_[point] == calls_) return;
+  queued_in_[point] = calls_;
+  // A queued point is judged afresh: it leaves the pending list it was on.
+  voxels_.pending[point] = 0;
+  work.fresh.push_back(point);
+}
+
+bool SegmentMap::known_origin(std::uint32_t point) const { return voxels_.scan[point] != LabelledVoxels::kNoScan; }
+
+Eigen::Vector3d SegmentMap::origin_of(std::uint32_t point) const { return origins_[voxels_.scan[point]]; }
+
+void SegmentMap::attach(std::uint32_t point, std::uint32_t id) {
+  Record& r = records_[id];
+  const Eigen::Vector3d p = voxels_.position(point);
+  voxels_.owner[point] = static_cast<std::int32_t>(id);
+  voxels_.pending[point] = 0;
+  r.moments.add(p);
+  if (known_origin(point)) r.view_sum += origin_of(point) - p;
+  r.members.push_back(point);
+  r.outline.push_back(p.cast<float>());
+  r.box.extend(p);
+  r.changed = true;
+}
+
+void SegmentMap::detach(std::uint32_t point) {
+  const std::int32_t owner = voxels_.owner[point];
+  if (owner == LabelledVoxels::kNoSegment) return;
+  Record& r = records_[static_cast<std::size_t>(owner)];
+  const Eigen::Vector3d p = voxels_.position(point);
+  r.moments.remove(p);
+  if (known_origin(point)) r.view_sum -= origin_of(point) - p;
+  ++r.stale;
+  r.left.push_back(point);
+  r.changed = true;
+  voxels_.owner[point] = LabelledVoxels::kNoSegment;
+}
+
+void SegmentMap::add_pending(std::uint32_t point, ClassId label, Work&) {
+  const auto c = static_cast<std::size_t>(label);
+  if (voxels_.pending[point] == c) return;
+  voxels_.pending[point] = static_cast<std::uint8_t>(c);
+  voxels_.rounds[point] = 0;
+  pending_[c].push_back(point);
+  ++new_pending_[c];
+}
+
+void SegmentMap::attach_points(const std::vector<std::uint32_t>& points, Work& work, bool fresh) {
+  // Which segment may a point join? Those of its class whose box, grown by
+  // the region-growing reach, holds it: found through a coarse grid.
+  const double margin = settings_.cluster_radius + settings_.distance_threshold;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> index;
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    const Record& r = records_[id];
+    if (!r.alive || r.box.empty()) continue;
+    const Eigen::Vector3d lo = r.box.min.array() - margin, hi = r.box.max.array() + margin;
+    for (std::int64_t x = cell_of(lo.x()); x <= cell_of(hi.x()); ++x) {
+      for (std::int64_t y = cell_of(lo.y()); y <= cell_of(hi.y()); ++y) {
+        for (std::int64_t z = cell_of(lo.z()); z <= cell_of(hi.z()); ++z) index[cell_key(x, y, z)].push_back(id);
+      }
+    }
+  }
+  std::vector<std::int64_t> choice(points.size(), -1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                        const std::uint32_t point = points[k];
+                        const auto label = static_cast<ClassId>(voxels_.label[point]);
+                        if (!is_segmented_class(label)) continue;
+                        const Eigen::Vector3d p = voxels_.position(point);
+                        const auto it = index.find(cell_key(cell_of(p.x()), cell_of(p.y()), cell_of(p.z())));
+                        if (it == index.end()) continue;
+                        double best = std::numeric_limits<double>::infinity();
+                        for (std::uint32_t id : it->second) {
+                          const Segment& s = records_[id].view;
+                          if (s.label != label) continue;
+                          const double d = std::abs(s.plane.distance(p));
+                          // Ids come in increasing order: ties keep the lower one.
+                          if (d <= settings_.distance_threshold && d < best && s.covers(p, settings_.cluster_radius)) {
+                            best = d;
+                            choice[k] = id;
+                          }
+                        }
+                      }
+                    });
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const std::uint32_t point = points[k];
+    if (choice[k] >= 0) {
+      attach(point, static_cast<std::uint32_t>(choice[k]));
+      ++work.update.points_attached;
+    } else if (fresh) {
+      const auto label = static_cast<ClassId>(voxels_.label[point]);
+      if (is_segmented_class(label)) add_pending(point, label, work);
+    }
+  }
+}
+
+void SegmentMap::compact_members(Record& r, std::uint32_t id) {
+  std::vector<std::uint32_t> kept;
+  kept.reserve(r.moments.count());
+  for (std::uint32_t point : r.members) {
+    if (voxels_.owner[point] == static_cast<std::int32_t>(id)) kept.push_back(point);
+  }
+  // A point that left and came back is listed twice.
+  std::sort(kept.begin(), kept.end());
+  kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
+  r.members = std::move(kept);
+  r.stale = 0;
+}
+
+void SegmentMap::repair(std::uint32_t id, Work& work) {
+  Record& r = records_[id];
+  compact_members(r, id);
+  std::vector<std::uint32_t> members = std::move(r.members);
+  // Start the record over and let its largest connected part join it again.
+  for (std::uint32_t point : members) voxels_.owner[point] = LabelledVoxels::kNoSegment;
+  r.moments = PlaneMoments();
+  r.view_sum.setZero();
+  r.members.clear();
+  r.outline.clear();
+  r.box = Bounds();
+  r.changed = true;
+  std::vector<std::vector<std::uint32_t>> parts;
+  if (members.size() >= settings_.min_points) {
+    PlaneMoments moments;
+    for (std::uint32_t point : members) moments.add(voxels_.position(point));
+    const PlaneFit fit = fit_plane(moments);
+    const PlaneFrame frame(fit.centroid, fit.plane.normal);
+    std::vector<Eigen::Vector2d> in_plane(members.size());
+    for (std::size_t k = 0; k < members.size(); ++k) in_plane[k] = frame.project(voxels_.position(members[k]));
+    for (const std::vector<std::uint32_t>& region : plane_regions(in_plane, settings_.cluster_radius)) {
+      std::vector<std::uint32_t> part(region.size());
+      for (std::size_t k = 0; k < region.size(); ++k) part[k] = members[region[k]];
+      parts.push_back(std::move(part));
+    }
+  }
+  const auto label = r.view.label;
+  if (parts.empty() || parts.front().size() < settings_.min_points) {
+    r.alive = false;
+    merged_into_[id] = kDissolved;
+    ++work.update.removed;
+    for (std::uint32_t point : members) add_pending(point, label, work);
+    return;
+  }
+  for (std::uint32_t point : parts.front()) attach(point, id);
+  for (std::size_t k = 1; k < parts.size(); ++k) {
+    if (parts[k].size() >= settings_.min_points) {
+      create(label, parts[k]);
+      ++work.update.split;
+      ++work.update.created;
+    } else {
+      for (std::uint32_t point : parts[k]) add_pending(point, label, work);
+    }
+  }
+}
+
+std::uint32_t SegmentMap::create(ClassId label, const std::vector<std::uint32_t>& points) {
+  const auto id = static_cast<std::uint32_t>(records_.size());
+  records_.emplace_back();
+  merged_into_.push_back(kAlive);
+  records_.back().view.id = id;
+  records_.back().view.label = label;
+  for (std::uint32_t point : points) attach(point, id);
+  refresh(id);
+  return id;
+}
+
+void SegmentMap::search(ClassId label, Work& work) {
+  const auto c = static_cast<std::size_t>(label);
+  new_pending_[c] = 0;
+  std::vector<std::uint32_t>& list = pending_[c];
+  auto still_pending = [&](std::uint32_t point) {
+    return voxels_.pending[point] == c && voxels_.owner[point] == LabelledVoxels::kNoSegment;
+  };
+  std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
+  // A point queued again after it waited is listed twice.
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+  // Segments grow between searches: a waiting point may lie on one now.
+  attach_points(list, work, false);
+  std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
+  if (list.size() < settings_.min_points) return;
+
+  std::vector<float> x(list.size()), y(list.size()), z(list.size());
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    x[k] = voxels_.x[list[k]];
+    y[k] = voxels_.y[list[k]];
+    z[k] = voxels_.z[list[k]];
+  }
+  const std::uint64_t seed = mix_key(settings_.seed ^ (c << 56) ^ searches_[c]++);
+  const Extraction found = extract_surfaces(PlanePoints{x, y, z}, settings_, seed);
+  work.update.planes_found += found.planes;
+  for (const std::vector<std::uint32_t>& surface : found.surfaces) {
+    std::vector<std::uint32_t> points(surface.size());
+    for (std::size_t k = 0; k < surface.size(); ++k) points[k] = list[surface[k]];
+    create(label, points);
+    ++work.update.created;
+  }
+  for (std::uint32_t point : list) {
+    if (!still_pending(point)) continue;
+    if (++voxels_.rounds[point] >= settings_.max_search_rounds) voxels_.pending[point] = 0;
+  }
+  std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
+}
+
+void SegmentMap::refresh(std::uint32_t id) {
+  Record& r = records_[id];
+  Segment& s = r.view;
+  if (r.moments.count() < 3) return;
+  const PlaneFit fit = fit_plane(r.moments);
+  const Eigen::Vector3d normal = oriented_normal(fit.plane.normal, r.view_sum);
+  s.plane = Plane{normal, -normal.dot(fit.centroid)};
+  s.centroid = fit.centroid;
+  s.inliers = r.moments.count();
+  s.thickness = std::sqrt(12.0 * fit.normal_variance);
+  s.min = r.box.min;
+  s.max = r.box.max;
+  s.slope_deg = s.plane.slope_deg();
+
+  const PlaneFrame frame(fit.centroid, normal);
+  std::vector<Eigen::Vector2d> in_plane(r.outline.size());
+  for (std::size_t k = 0; k < r.outline.size(); ++k) in_plane[k] = frame.project(r.outline[k].cast<double>());
+  const std::vector<std::size_t> hull = convex_hull(in_plane);
+  std::vector<Eigen::Vector2d> hull_points(hull.size());
+  std::vector<Eigen::Vector3f> corners(hull.size());
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    hull_points[k] = in_plane[hull[k]];
+    corners[k] = r.outline[hull[k]];
+  }
+  r.outline = std::move(corners);
+  s.area_m2 = polygon_area(hull_points);
+  const Rectangle2d rectangle = min_area_rectangle(hull_points);
+  s.rectangle.center = frame.lift(rectangle.center);
+  for (int a = 0; a < 2; ++a) {
+    s.rectangle.axes[a] = rectangle.axes[a].x() * frame.u + rectangle.axes[a].y() * frame.v;
+    s.rectangle.half_extents[a] = rectangle.half_extents[a];
+  }
+}
+
+void SegmentMap::absorb(std::uint32_t survivor, std::uint32_t absorbed) {
+  Record& a = records_[absorbed];
+  Record& s = records_[survivor];
+  for (std::uint32_t point : a.members) {
+    if (voxels_.owner[point] != static_cast<std::int32_t>(absorbed)) continue;
+    voxels_.owner[point] = static_cast<std::int32_t>(survivor);
+    s.members.push_back(point);
+  }
+  s.moments += a.moments;
+  s.view_sum += a.view_sum;
+  s.outline.insert(s.outline.end(), a.outline.begin(), a.outline.end());
+  s.box.extend(a.box);
+  s.changed = true;
+  a = Record();
+  a.alive = false;
+  merged_into_[absorbed] = survivor;
+  merges_.emplace_back(absorbed, survivor);
+}
+
+void SegmentMap::merge_changed(Work& work) {
+  const double reach = settings_.merge_gap + settings_.merge_offset;
+  bool again = true;
+  while (again) {
+    again = false;
+    for (std::uint32_t id = 0; id < records_.size() && !again; ++id) {
+      if (!records_[id].alive || !records_[id].changed) continue;
+      for (std::uint32_t other = 0; other < records_.size(); ++other) {
+        const Record& a = records_[id];
+        const Record& b = records_[other];
+        if (other == id || !b.alive || a.view.label != b.view.label || !boxes_near(a.box, b.box, reach)) continue;
+        if (!same_surface(a.view, b.view, settings_)) continue;
+        const std::uint32_t survivor = std::min(id, other);
+        absorb(survivor, std::max(id, other));
+        refresh(survivor);
+        ++work.update.merged;
+        again = true;
+        break;
+      }
+    }
+  }
+}
+
+SegmentUpdate SegmentMap::finish(Work& work) {
+  attach_points(work.fresh, work, true);
+  // Segments whose points left for good are rebuilt; points that moved to a
+  // closer view and came straight back change nothing else.
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    Record& r = records_[id];
+    if (!r.alive || r.left.empty()) continue;
+    const bool lost = std::any_of(r.left.begin(), r.left.end(), [&](std::uint32_t point) {
+      return voxels_.owner[point] != static_cast<std::int32_t>(id);
+    });
+    r.left.clear();
+    if (lost) {
+      repair(id, work);
+    } else if (r.stale > r.members.size() / 2) {
+      compact_members(r, id);
+    }
+  }
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    if (records_[id].alive && records_[id].changed) refresh(id);
+  }
+  for (std::size_t c = 0; c < kClassCount; ++c) {
+    const auto label = static_cast<ClassId>(c);
+    if (is_segmented_class(label) && new_pending_[c] >= settings_.min_points) search(label, work);
+  }
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    if (records_[id].alive && records_[id].changed) refresh(id);
+  }
+  merge_changed(work);
+  for (Record& r : records_) r.changed = false;
+  return work.update;
+}
+
+std::vector<const Segment*> SegmentMap::segments() const {
+  std::vector<const Segment*> out;
+  for (const Record& r : records_) {
+    if (r.alive) out.push_back(&r.view);
+  }
+  return out;
+}
+
+std::size_t SegmentMap::size() const {
+  return static_cast<std::size_t>(std::count_if(records_.begin(), records_.end(), [](const Record& r) { return r.alive; }));
+}
+
+const Segment* SegmentMap::find(std::uint32_t id) const {
+  return id < records_.size() && records_[id].alive ? &records_[id].view : nullptr;
+}
+
+std::optional<std::uint32_t> SegmentMap::resolve(std::uint32_t id) const {
+  while (id < merged_into_.size()) {
+    const std::int64_t next = merged_into_[id];
+    if (next == kAlive) return id;
+    if (next == kDissolved) return std::nullopt;
+    id = static_cast<std::uint32_t>(next);
+  }
+  return std::nullopt;
+}
+
+std::vector<const Segment*> SegmentMap::of_class(ClassId label) const {
+  std::vector<const Segment*> out;
+  for (const Record& r : records_) {
+    if (r.alive && r.view.label == label) out.push_back(&r.view);
+  }
+  return out;
+}
+
+std::vector<const Segment*> SegmentMap::in_box(const Bounds& box) const {
+  std::vector<const Segment*> out;
+  for (const Record& r : records_) {
+    if (r.alive && boxes_near(r.box, box, 0)) out.push_back(&r.view);
+  }
+  return out;
+}
+
+const Segment* SegmentMap::under(const Eigen::Vector3d& p, double max_drop) const {
+  const Segment* best = nullptr;
+  double best_z = -std::numeric_limits<double>::infinity();
+  for (const Record& r : records_) {
+    if (!r.alive || !walkable(r.view)) continue;
+    const Plane& plane = r.view.plane;
+    const double z = -(plane.normal.x() * p.x() + plane.normal.y() * p.y() + plane.offset) / plane.normal.z();
+    if (z > p.z() + settings_.distance_threshold || p.z() - z > max_drop) continue;
+    if (!r.view.covers({p.x(), p.y(), z}, 0)) continue;
+    if (z > best_z) {
+      best_z = z;
+      best = &r.view;
+    }
+  }
+  return best;
+}
+
+std::vector<Eigen::Vector3f> SegmentMap::member_points(std::uint32_t id) const {
+  std::vector<Eigen::Vector3f> out;
+  if (find(id) == nullptr) return out;
+  std::vector<std::uint32_t> members;
+  for (std::uint32_t point : records_[id].members) {
+    if (voxels_.owner[point] == static_cast<std::int32_t>(id)) members.push_back(point);
+  }
+  std::sort(members.begin(), members.end());
+  members.erase(std::unique(members.begin(), members.end()), members.end());
+  for (std::uint32_t point : members) out.emplace_back(voxels_.x[point], voxels_.y[point], voxels_.z[point]);
+  return out;
+}
+
+std::array<std::size_t, kClassCount> SegmentMap::pending_counts() const {
+  std::array<std::size_t, kClassCount> out{};
+  for (std::size_t c = 0; c < kClassCount; ++c) {
+    for (std::uint32_t point : pending_[c]) {
+      out[c] += voxels_.pending[point] == c && voxels_.owner[point] == LabelledVoxels::kNoSegment;
+    }
+  }
+  return out;
+}
+
+}  // namespace sarmap::segments

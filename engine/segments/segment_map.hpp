@@ -1,0 +1,126 @@
+// The global segment map: planar segments of terrain, walls, inclined ramps
+// and flat ramps that grow as scans arrive. Each scan's labelled points are
+// thinned into the map's own voxels; a new point joins the segment whose
+// plane and outline it lies on, the rest wait per class until enough gather
+// for a plane search (RANSAC, least squares, region growing); new segments
+// that continue an old one merge into it (the lower id survives). Points whose
+// class changes leave their segment, which is refitted, split or dissolved,
+// so a reclassified region is re-derived rather than left stale.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/core/bounds.hpp"
+#include "engine/core/classes.hpp"
+#include "engine/core/point_buffer.hpp"
+#include "engine/segments/labelled_voxels.hpp"
+#include "engine/segments/segment.hpp"
+#include "engine/segments/segment_settings.hpp"
+
+namespace sarmap::segments {
+
+// What one call did, for the profile's counters.
+struct SegmentUpdate {
+  std::size_t points_in = 0;        // labelled points offered
+  std::size_t points_rejected = 0;  // beyond the voxel keys' reach
+  std::size_t points_new = 0;       // voxels seen for the first time
+  std::size_t points_changed = 0;   // stored points relabelled or replaced by a closer view
+  std::size_t points_attached = 0;  // points that joined an existing segment
+  std::size_t planes_found = 0;     // RANSAC planes
+  std::size_t created = 0;          // new segments (split-off parts included)
+  std::size_t merged = 0;           // segments merged into another
+  std::size_t split = 0;            // parts split off a segment that lost points
+  std::size_t removed = 0;          // segments dissolved for lack of points
+
+  SegmentUpdate& operator+=(const SegmentUpdate& other);
+};
+
+class SegmentMap {
+ public:
+  // Throws sarmap::Error (InvalidArgument) for settings out of range.
+  explicit SegmentMap(const SegmentSettings& settings = {});
+  ~SegmentMap();
+  SegmentMap(SegmentMap&&) noexcept;
+  SegmentMap& operator=(SegmentMap&&) noexcept;
+
+  const SegmentSettings& settings() const { return settings_; }
+
+  // Adds one scan's world-frame points, labelled with class ids, seen from
+  // `origin`. Points of class unknown are skipped. Throws sarmap::Error
+  // (InvalidArgument) when the points carry no labels or a point or the
+  // origin is not finite.
+  SegmentUpdate integrate(const PointBuffer& points, const Eigen::Vector3d& origin);
+  // Revised classes for points already mapped (a reclassified block): each
+  // point's voxel takes its label outright (a point in an empty voxel is
+  // added), and every segment that loses points is refitted, split or
+  // dissolved. Same errors as integrate.
+  SegmentUpdate reclassify(const PointBuffer& points);
+
+  // Live segments, in id order.
+  std::vector<const Segment*> segments() const;
+  std::size_t size() const;
+  // The live segment with this id, or nullptr.
+  const Segment* find(std::uint32_t id) const;
+  // The live segment an id became through merges; nullopt if it dissolved.
+  std::optional<std::uint32_t> resolve(std::uint32_t id) const;
+  // Merges so far, as (absorbed id, surviving id), in order.
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>>& merges() const { return merges_; }
+
+  std::vector<const Segment*> of_class(ClassId label) const;
+  // Live segments whose extent overlaps the box.
+  std::vector<const Segment*> in_box(const Bounds& box) const;
+  // The highest walkable segment (terrain, flat ramp or inclined ramp, less
+  // than 45 degrees steep) whose rectangle holds p's vertical projection and
+  // whose surface there is at most `max_drop` below p (and not above it by
+  // more than the inlier threshold); nullptr if none.
+  const Segment* under(const Eigen::Vector3d& p, double max_drop) const;
+  // The stored points of a live segment, in insertion order.
+  std::vector<Eigen::Vector3f> member_points(std::uint32_t id) const;
+
+  // Thinned points held (all classes).
+  std::size_t point_count() const { return voxels_.size(); }
+  // Points waiting for a plane search, per class id.
+  std::array<std::size_t, kClassCount> pending_counts() const;
+
+ private:
+  struct Record;
+  struct Work;
+
+  SegmentUpdate finish(Work& work);
+  void queue(Work& work, std::uint32_t point);
+  void attach(std::uint32_t point, std::uint32_t id);
+  void detach(std::uint32_t point);
+  void add_pending(std::uint32_t point, ClassId label, Work& work);
+  void attach_points(const std::vector<std::uint32_t>& points, Work& work, bool fresh);
+  void repair(std::uint32_t id, Work& work);
+  void search(ClassId label, Work& work);
+  std::uint32_t create(ClassId label, const std::vector<std::uint32_t>& points);
+  void absorb(std::uint32_t survivor, std::uint32_t absorbed);
+  void merge_changed(Work& work);
+  void refresh(std::uint32_t id);
+  void compact_members(Record& record, std::uint32_t id);
+  Eigen::Vector3d origin_of(std::uint32_t point) const;
+  bool known_origin(std::uint32_t point) const;
+
+  SegmentSettings settings_;
+  LabelledVoxels voxels_;
+  std::vector<Eigen::Vector3d> origins_;  // per integrated scan
+  std::vector<std::uint64_t> queued_in_;  // per point: the call that last queued it
+  std::uint64_t calls_ = 0;
+  std::vector<Record> records_;           // indexed by segment id; dead ones stay
+  std::vector<std::int64_t> merged_into_;  // per id: survivor, -1 alive, -2 dissolved
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> merges_;
+  std::array<std::vector<std::uint32_t>, kClassCount> pending_;
+  std::array<std::size_t, kClassCount> new_pending_{};  // joined since the class's last search
+  std::array<std::uint64_t, kClassCount> searches_{};
+};
+
+}  // namespace sarmap::segments
