@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include "engine/geometry/oriented_box.hpp"
+
 namespace sarmap::sim {
 namespace {
 
@@ -14,27 +16,12 @@ Eigen::Matrix3d yaw_rotation(double yaw_deg) {
   return Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
-void add_quad(ClassedMesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-  m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
-}
+using geometry::add_quad;
+using geometry::BoxFaces;
 
 // A box of the given size around `center`, turned by yaw about z.
-ClassedMesh box_mesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw_deg, bool bottom) {
-  ClassedMesh m;
-  const Eigen::Matrix3d r = yaw_rotation(yaw_deg);
-  const Eigen::Vector3d h = size / 2;
-  // Vertex i has x sign from bit 0, y from bit 1, z from bit 2.
-  for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3d local((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-    m.vertices.push_back((center + r * local).cast<float>());
-  }
-  add_quad(m, 4, 5, 7, 6);  // top
-  if (bottom) add_quad(m, 0, 2, 3, 1);
-  add_quad(m, 0, 1, 5, 4);  // -y
-  add_quad(m, 2, 6, 7, 3);  // +y
-  add_quad(m, 0, 4, 6, 2);  // -x
-  add_quad(m, 1, 3, 7, 5);  // +x
-  return m;
+ClassedMesh box_mesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw_deg, BoxFaces faces) {
+  return geometry::box_mesh(geometry::yawed_box(center, size, yaw_deg * kDeg), faces);
 }
 
 // The wedge: footprint length x width centred at the origin, slope rising to +x.
@@ -84,14 +71,15 @@ ClassedMesh element_mesh(const ArenaElement& element) {
     const Eigen::Vector2d d = w->to - w->from;
     const Eigen::Vector2d mid = (w->from + w->to) / 2;
     const double yaw = std::atan2(d.y(), d.x()) / kDeg;
-    m = box_mesh({mid.x(), mid.y(), w->height / 2}, {d.norm() + w->thickness, w->thickness, w->height}, yaw, false);
+    m = box_mesh({mid.x(), mid.y(), w->height / 2}, {d.norm() + w->thickness, w->thickness, w->height}, yaw,
+                 BoxFaces::NoBottom);
   } else if (const auto* r = std::get_if<InclinedRampSpec>(&element.shape)) {
     m = wedge_mesh(*r);
   } else if (const auto* f = std::get_if<FlatRampSpec>(&element.shape)) {
     m = box_mesh({f->center.x(), f->center.y(), f->height / 2}, {f->size.x(), f->size.y(), f->height}, f->yaw_deg,
-                 false);
+                 BoxFaces::NoBottom);
   } else if (const auto* b = std::get_if<BoxSpec>(&element.shape)) {
-    m = box_mesh(b->center, b->size, b->yaw_deg, true);
+    m = box_mesh(b->center, b->size, b->yaw_deg, BoxFaces::All);
   } else {
     m = transformed_mesh(std::get<MeshSpec>(element.shape));
   }

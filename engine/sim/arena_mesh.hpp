@@ -3,25 +3,16 @@
 // both read, so they cannot disagree about where a surface is.
 #pragma once
 
-#include <cstdint>
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "engine/core/classes.hpp"
+#include "engine/geometry/classed_mesh.hpp"
 #include "engine/sim/arena.hpp"
 
 namespace sarmap::sim {
 
-struct ClassedMesh {
-  std::vector<Eigen::Vector3f> vertices;  // world frame, metres
-  std::vector<std::uint32_t> indices;     // three per triangle
-  ClassId label = ClassId::Other;
-  std::string name;  // "floor" or "elements[i] (type)", for messages
-
-  std::size_t triangle_count() const { return indices.size() / 3; }
-};
+using geometry::ClassedMesh;
 
 // The element's triangles in the world frame. Elements that stand on the
 // floor (walls, ramps, platforms) have no bottom face: it lies on the floor,

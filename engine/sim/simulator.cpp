@@ -25,7 +25,7 @@ void rotate_row(const Eigen::Matrix3f& r, std::span<const Eigen::Vector3f> in, s
 Simulator::Simulator(const Arena& arena, SimulationOptions options)
     : arena_(arena),
       options_(options),
-      scene_(std::make_unique<ArenaScene>(arena_meshes(arena))),
+      scene_(std::make_unique<geometry::TriangleScene>(arena_meshes(arena))),
       rays_(make_sensor_rays(arena.sensor)),
       poses_(trajectory_poses(arena, *scene_)) {}
 

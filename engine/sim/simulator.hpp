@@ -15,11 +15,13 @@
 
 #include "engine/core/pose.hpp"
 #include "engine/core/scan.hpp"
+#include "engine/geometry/triangle_scene.hpp"
 #include "engine/sim/arena.hpp"
-#include "engine/sim/arena_scene.hpp"
 #include "engine/sim/sensor_rays.hpp"
 
 namespace sarmap::sim {
+
+using geometry::RayBatchMode;
 
 struct SimulationOptions {
   std::uint64_t seed = 0;
@@ -35,7 +37,7 @@ class Simulator {
   std::size_t frame_count() const { return poses_.size(); }
   const std::vector<Pose>& poses() const { return poses_; }
   const SensorRays& rays() const { return rays_; }
-  const ArenaScene& scene() const { return *scene_; }
+  const geometry::TriangleScene& scene() const { return *scene_; }
   const Arena& arena() const { return arena_; }
 
   // One frame: world-frame points with ground-truth labels, its pose and origin.
@@ -52,7 +54,7 @@ class Simulator {
  private:
   Arena arena_;
   SimulationOptions options_;
-  std::unique_ptr<ArenaScene> scene_;
+  std::unique_ptr<geometry::TriangleScene> scene_;
   SensorRays rays_;
   std::vector<Pose> poses_;
 };

@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "engine/sim/ground_height.hpp"
+
 namespace sarmap::sim {
 
 Eigen::Matrix3d body_rotation(double yaw, double pitch_deg) {
@@ -24,7 +26,7 @@ Eigen::Matrix3d optical_to_body() {
   return m;
 }
 
-std::vector<Pose> trajectory_poses(const Arena& arena, const ArenaScene& scene) {
+std::vector<Pose> trajectory_poses(const Arena& arena, const geometry::TriangleScene& scene) {
   const TrajectorySpec& t = arena.trajectory;
   if (!t.poses.empty()) return t.poses;
   const auto& w = t.waypoints;
@@ -49,7 +51,7 @@ std::vector<Pose> trajectory_poses(const Arena& arena, const ArenaScene& scene) 
     Eigen::Vector2d dir = b - a;
     for (std::size_t k = segment; dir.norm() < 1e-12 && k > 0; --k) dir = w[k] - w[k - 1];
     const Eigen::Vector2d xy = a + alpha * (b - a);
-    const double ground = scene.ground_height(xy.x(), xy.y(), arena.bounds_max.z());
+    const double ground = ground_height(scene, xy.x(), xy.y(), arena.bounds_max.z());
     const Eigen::Vector3d position(xy.x(), xy.y(), ground + t.height);
     const double yaw = std::atan2(dir.y(), dir.x());
     poses.emplace_back(body_rotation(yaw, t.pitch_deg) * mount, position, "trajectory");

@@ -9,8 +9,8 @@
 #include <Eigen/Core>
 
 #include "engine/core/pose.hpp"
+#include "engine/geometry/triangle_scene.hpp"
 #include "engine/sim/arena.hpp"
-#include "engine/sim/arena_scene.hpp"
 
 namespace sarmap::sim {
 
@@ -21,6 +21,6 @@ Eigen::Matrix3d body_rotation(double yaw, double pitch_deg);
 // body frame: optical z -> body x, optical x -> body -y, optical y -> body -z.
 Eigen::Matrix3d optical_to_body();
 
-std::vector<Pose> trajectory_poses(const Arena& arena, const ArenaScene& scene);
+std::vector<Pose> trajectory_poses(const Arena& arena, const geometry::TriangleScene& scene);
 
 }  // namespace sarmap::sim

@@ -8,7 +8,7 @@
 #include <numbers>
 
 #include "engine/core/error.hpp"
-#include "engine/sim/arena_scene.hpp"
+#include "engine/geometry/triangle_scene.hpp"
 #include "engine/sim/mesh_loader.hpp"
 #include "tests/sim/test_arenas.hpp"
 
@@ -94,7 +94,7 @@ TEST(ArenaMesh, MeshElementAppliesNodeTransformAndPlacement) {
   EXPECT_NEAR(b.max().x(), 1.6, 1e-5);
   EXPECT_NEAR(b.min().y(), 3.0, 1e-5);
   EXPECT_NEAR(b.max().y(), 4.2, 1e-5);
-  const ArenaScene scene(meshes);
+  const geometry::TriangleScene scene(meshes);
   const auto hit = scene.intersect({1.0f, 3.6f, 2.0f}, {0, 0, -1}, 0, 10);
   ASSERT_TRUE(hit.hit);
   EXPECT_EQ(hit.label, ClassId::InclinedRamp);

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.hpp"
+#include "engine/sim/ground_height.hpp"
 #include "engine/sim/simulator.hpp"
 #include "engine/sim/trajectory.hpp"
 #include "tests/sim/test_arenas.hpp"
@@ -145,7 +146,7 @@ TEST(GroundTruthGrid, FreeVoxelsOfTheDefaultArenaAreSoundAndThreadIndependent) {
     // Free space is above the floor and never inside a ramp: its centre sits
     // above the surface under it.
     const Eigen::Vector3d c = voxel_center(k, 0.1);
-    ASSERT_GT(c.z(), sim.scene().ground_height(c.x(), c.y(), 2.4)) << c.transpose();
+    ASSERT_GT(c.z(), ground_height(sim.scene(), c.x(), c.y(), 2.4)) << c.transpose();
   }
   // Every observed voxel sits where a noise-free point of those frames lands.
   const Simulator exact(arena, {.noise = false});

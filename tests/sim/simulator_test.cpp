@@ -1,4 +1,4 @@
-// Tests of engine/sim/simulator.hpp, arena_scene.hpp, trajectory.hpp and
+// Tests of engine/sim/simulator.hpp, ground_height.hpp, trajectory.hpp and
 // sensor_rays.hpp: points lie on the surfaces they hit, carry the surface's
 // class, follow the noise model, and do not depend on the thread count.
 #include "engine/sim/simulator.hpp"
@@ -11,6 +11,8 @@
 #include <numbers>
 #include <set>
 
+#include "engine/sim/arena_mesh.hpp"
+#include "engine/sim/ground_height.hpp"
 #include "engine/sim/ray_noise.hpp"
 #include "engine/sim/trajectory.hpp"
 #include "tests/sim/test_arenas.hpp"
@@ -68,7 +70,7 @@ TEST(Simulator, RayOnInclinedRampReturnsAnalyticDistance) {
   ramp.shape = InclinedRampSpec{{2, 2}, 2.0, 1.0, 20, 0};
   ramp.label = ClassId::InclinedRamp;
   std::vector<ClassedMesh> meshes{element_mesh(ramp)};
-  const ArenaScene scene(meshes);
+  const geometry::TriangleScene scene(meshes);
   const double tan20 = std::tan(20 * kDeg);
   // Straight down onto the slope, 1.5 m from its low edge.
   auto hit = scene.intersect({2.5f, 2.0f, 3.0f}, {0, 0, -1}, 0, 100);
@@ -86,7 +88,7 @@ TEST(Simulator, RayOnInclinedRampReturnsAnalyticDistance) {
   // Above the high end: a miss.
   EXPECT_FALSE(scene.intersect({5.0f, 2.0f, 1.0f}, {-1, 0, 0}, 0, 100).hit);
   // The ground under the slope for the trajectory.
-  EXPECT_NEAR(scene.ground_height(2.5, 2.0, 3.0), 1.5 * tan20, 1e-5);
+  EXPECT_NEAR(ground_height(scene, 2.5, 2.0, 3.0), 1.5 * tan20, 1e-5);
 }
 
 TEST(Simulator, EveryElementTypeGivesItsClass) {

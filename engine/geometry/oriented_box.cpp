@@ -1,0 +1,35 @@
+#include "engine/geometry/oriented_box.hpp"
+
+#include <Eigen/Geometry>
+
+#include "engine/core/error.hpp"
+
+namespace sarmap::geometry {
+
+OrientedBox yawed_box(const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw) {
+  return {center, Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(), size / 2};
+}
+
+ClassedMesh box_mesh(const OrientedBox& box, BoxFaces faces) {
+  if (!box.center.allFinite() || !box.axes.allFinite() || !box.half_extents.allFinite() ||
+      (box.half_extents.array() < 0).any()) {
+    throw Error(ErrorCode::InvalidArgument, "box_mesh: the box has a non-finite value or a negative half extent");
+  }
+  ClassedMesh m;
+  const Eigen::Vector3d& h = box.half_extents;
+  m.vertices.reserve(8);
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d local((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+    m.vertices.push_back((box.center + box.axes * local).cast<float>());
+  }
+  m.indices.reserve(36);
+  add_quad(m, 4, 5, 7, 6);  // +z
+  if (faces == BoxFaces::All) add_quad(m, 0, 2, 3, 1);
+  add_quad(m, 0, 1, 5, 4);  // -y
+  add_quad(m, 2, 6, 7, 3);  // +y
+  add_quad(m, 0, 4, 6, 2);  // -x
+  add_quad(m, 1, 3, 7, 5);  // +x
+  return m;
+}
+
+}  // namespace sarmap::geometry

@@ -1,0 +1,295 @@
+#include "engine/geometry/triangle_scene.hpp"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "engine/geometry/float_limits.hpp"
+
+namespace sarmap::geometry {
+
+struct TriangleScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+namespace {
+
+void check_device(RTCDevice device, const char* what) {
+  const RTCError e = rtcGetDeviceError(device);
+  if (e != RTC_ERROR_NONE) {
+    throw Error(ErrorCode::InvalidData, std::string("Embree failed while ") + what + " (error " +
+                                            std::to_string(static_cast<int>(e)) + ")");
+  }
+}
+
+RTCBuildQuality embree_quality(BuildQuality q) {
+  switch (q) {
+    case BuildQuality::Low: return RTC_BUILD_QUALITY_LOW;
+    case BuildQuality::Medium: return RTC_BUILD_QUALITY_MEDIUM;
+    case BuildQuality::High: break;
+  }
+  return RTC_BUILD_QUALITY_HIGH;
+}
+
+void init_ray(RTCRayHit& rh, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_near, float t_far) {
+  rh.ray.org_x = o.x();
+  rh.ray.org_y = o.y();
+  rh.ray.org_z = o.z();
+  rh.ray.dir_x = d.x();
+  rh.ray.dir_y = d.y();
+  rh.ray.dir_z = d.z();
+  rh.ray.tnear = t_near;
+  rh.ray.tfar = t_far;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// A segment as Embree's ray: origin p, direction q - p, t in [0, 1]. False
+// for a segment whose float direction is zero: it crosses no surface.
+bool segment_ray(const Segment& s, Eigen::Vector3f& origin, Eigen::Vector3f& direction) {
+  origin = s.p.cast<float>();
+  direction = (s.q - s.p).cast<float>();
+  return direction.x() != 0 || direction.y() != 0 || direction.z() != 0;
+}
+
+bool segment_in_range(const Segment& s) {
+  // Written so that NaN fails every comparison and lands out of range.
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(s.p[i]) <= kMaxSceneCoordinate) || !(std::abs(s.q[i]) <= kMaxSceneCoordinate)) return false;
+  }
+  return true;
+}
+
+void record_lowest(std::atomic<std::size_t>& lowest, std::size_t i) {
+  std::size_t seen = lowest.load(std::memory_order_relaxed);
+  while (i < seen && !lowest.compare_exchange_weak(seen, i, std::memory_order_relaxed)) {
+  }
+}
+
+// Each task takes this many segments: enough to amortise the task, few
+// enough that 1k edges still spread over both cores. A multiple of 16.
+constexpr std::size_t kSegmentsPerTask = 256;
+
+}  // namespace
+
+TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice(nullptr);
+  if (impl_->device == nullptr) throw Error(ErrorCode::InvalidData, "Embree: cannot create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->scene, embree_quality(quality));
+  for (const ClassedMesh& m : meshes) {
+    if (m.indices.empty()) continue;
+    validate_mesh(m);
+    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), m.vertices.size()));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), m.triangle_count()));
+    if (v == nullptr || idx == nullptr) {
+      rtcReleaseGeometry(g);
+      check_device(impl_->device, "allocating geometry buffers");
+      throw Error(ErrorCode::InvalidData, "Embree failed while allocating geometry buffers");
+    }
+    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+      v[3 * i] = m.vertices[i].x();
+      v[3 * i + 1] = m.vertices[i].y();
+      v[3 * i + 2] = m.vertices[i].z();
+    }
+    std::copy(m.indices.begin(), m.indices.end(), idx);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(impl_->scene, g);
+    rtcReleaseGeometry(g);
+    if (id >= labels_.size()) labels_.resize(id + 1, ClassId::Unknown);
+    labels_[id] = m.label;
+  }
+  rtcCommitScene(impl_->scene);
+  check_device(impl_->device, "building the scene");
+}
+
+TriangleScene::~TriangleScene() = default;
+
+TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                                            float t_near, float t_far) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  init_ray(rh, origin, direction, t_near, t_far);
+  rtcIntersect1(impl_->scene, &context, &rh);
+  Hit hit;
+  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+    hit.hit = true;
+    hit.t = rh.ray.tfar;
+    hit.label = labels_[rh.hit.geomID];
+  }
+  return hit;
+}
+
+void TriangleScene::intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions,
+                                    float t_near, float t_far, std::span<float> t_out,
+                                    std::span<std::uint8_t> label_out, RayBatchMode mode) const {
+  constexpr float kMiss = std::numeric_limits<float>::infinity();
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  const std::size_t n = directions.size();
+  if (mode == RayBatchMode::Single) {
+    RTCRayHit rh;
+    for (std::size_t i = 0; i < n; ++i) {
+      init_ray(rh, origin, directions[i], t_near, t_far);
+      rtcIntersect1(impl_->scene, &context, &rh);
+      const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      t_out[i] = hit ? rh.ray.tfar : kMiss;
+      label_out[i] = hit ? static_cast<std::uint8_t>(labels_[rh.hit.geomID]) : 0;
+    }
+    return;
+  }
+  // Packets of 16 coherent rays (neighbouring pixels share BVH nodes).
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRayHit16 packet;
+  alignas(64) int valid[16];
+  for (std::size_t base = 0; base < n; base += 16) {
+    const std::size_t count = std::min<std::size_t>(16, n - base);
+    for (std::size_t k = 0; k < 16; ++k) {
+      const bool on = k < count;
+      valid[k] = on ? -1 : 0;
+      const Eigen::Vector3f& d = directions[on ? base + k : base];
+      packet.ray.org_x[k] = origin.x();
+      packet.ray.org_y[k] = origin.y();
+      packet.ray.org_z[k] = origin.z();
+      packet.ray.dir_x[k] = d.x();
+      packet.ray.dir_y[k] = d.y();
+      packet.ray.dir_z[k] = d.z();
+      packet.ray.tnear[k] = t_near;
+      packet.ray.tfar[k] = t_far;
+      packet.ray.time[k] = 0;
+      packet.ray.mask[k] = 0xFFFFFFFFu;
+      packet.ray.id[k] = static_cast<unsigned>(k);
+      packet.ray.flags[k] = 0;
+      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, impl_->scene, &context, &packet);
+    for (std::size_t k = 0; k < count; ++k) {
+      const unsigned g = packet.hit.geomID[k];
+      const bool hit = g != RTC_INVALID_GEOMETRY_ID;
+      t_out[base + k] = hit ? packet.ray.tfar[k] : kMiss;
+      label_out[base + k] = hit ? static_cast<std::uint8_t>(labels_[g]) : 0;
+    }
+  }
+}
+
+void TriangleScene::segments_blocked(std::span<const Segment> segments, std::span<std::uint8_t> blocked,
+                                     RayBatchMode mode) const {
+  const std::size_t n = segments.size();
+  if (blocked.size() != n) {
+    throw Error(ErrorCode::InvalidArgument, "TriangleScene::segments_blocked: " + std::to_string(n) +
+                                                " segments but " + std::to_string(blocked.size()) + " flags");
+  }
+  std::atomic<std::size_t> lowest_bad{n};
+  RTCScene scene = impl_->scene;
+  const auto single = [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    Eigen::Vector3f o, d;
+    for (std::size_t i = begin; i < end; ++i) {
+      blocked[i] = 0;
+      if (!segment_in_range(segments[i])) {
+        record_lowest(lowest_bad, i);
+        continue;
+      }
+      if (!segment_ray(segments[i], o, d)) continue;
+      ray.org_x = o.x();
+      ray.org_y = o.y();
+      ray.org_z = o.z();
+      ray.dir_x = d.x();
+      ray.dir_y = d.y();
+      ray.dir_z = d.z();
+      ray.tnear = 0;
+      ray.tfar = 1;
+      ray.time = 0;
+      ray.mask = 0xFFFFFFFFu;
+      ray.id = 0;
+      ray.flags = 0;
+      rtcOccluded1(scene, &context, &ray);
+      // Embree marks an occluded ray by setting tfar to -infinity.
+      blocked[i] = ray.tfar < 0 ? 1 : 0;
+    }
+  };
+  const auto packets = [&](std::size_t begin, std::size_t end) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    alignas(64) RTCRay16 packet;
+    alignas(64) int valid[16];
+    Eigen::Vector3f o, d;
+    for (std::size_t base = begin; base < end; base += 16) {
+      const std::size_t count = std::min<std::size_t>(16, end - base);
+      for (std::size_t k = 0; k < 16; ++k) {
+        bool on = false;
+        if (k < count) {
+          const std::size_t i = base + k;
+          blocked[i] = 0;
+          if (!segment_in_range(segments[i])) {
+            record_lowest(lowest_bad, i);
+          } else {
+            on = segment_ray(segments[i], o, d);
+          }
+        }
+        if (!on) o = d = Eigen::Vector3f::Zero();
+        valid[k] = on ? -1 : 0;
+        packet.org_x[k] = o.x();
+        packet.org_y[k] = o.y();
+        packet.org_z[k] = o.z();
+        packet.dir_x[k] = d.x();
+        packet.dir_y[k] = d.y();
+        packet.dir_z[k] = d.z();
+        packet.tnear[k] = 0;
+        packet.tfar[k] = 1;
+        packet.time[k] = 0;
+        packet.mask[k] = 0xFFFFFFFFu;
+        packet.id[k] = static_cast<unsigned>(k);
+        packet.flags[k] = 0;
+      }
+      rtcOccluded16(valid, scene, &context, &packet);
+      for (std::size_t k = 0; k < count; ++k) {
+        if (valid[k] != 0 && packet.tfar[k] < 0) blocked[base + k] = 1;
+      }
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kSegmentsPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      if (mode == RayBatchMode::Single) {
+                        single(r.begin(), r.end());
+                      } else {
+                        packets(r.begin(), r.end());
+                      }
+                    });
+  const std::size_t bad = lowest_bad.load();
+  if (bad < n) {
+    const Segment& s = segments[bad];
+    const bool finite = s.p.allFinite() && s.q.allFinite();
+    throw Error(finite ? ErrorCode::OutOfRange : ErrorCode::InvalidArgument,
+                "TriangleScene::segments_blocked: segment " + std::to_string(bad) +
+                    (finite ? " has a coordinate beyond " + std::to_string(static_cast<int>(kMaxSceneCoordinate)) + " m"
+                            : " has a non-finite endpoint"));
+  }
+}
+
+}  // namespace sarmap::geometry

@@ -1,0 +1,75 @@
+// Classed triangle meshes in one Embree scene, one geometry per mesh: first
+// hits of rays (the simulated sensors, ground heights) and batched occlusion
+// of line segments (the topological map's edges against its walls).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/core/classes.hpp"
+#include "engine/geometry/classed_mesh.hpp"
+#include "engine/geometry/segment.hpp"
+
+namespace sarmap::geometry {
+
+// How a batch of rays is handed to Embree; both give the same answers
+// (tested), the benchmarks say which is faster for which batch.
+enum class RayBatchMode { Single, Packet16 };
+
+// Embree's BVH build quality: High (spatial splits) traces fastest and builds
+// slowest, for scenes built once and traced millions of times; Medium and Low
+// build faster, for scenes rebuilt often and queried little.
+enum class BuildQuality { Low, Medium, High };
+
+class TriangleScene {
+ public:
+  // Builds the scene; empty meshes are skipped. Throws sarmap::Error
+  // (InvalidData, naming the mesh) for a bad mesh (see validate_mesh), or if
+  // Embree fails. Robust mode always: rays never slip through the shared edge
+  // of two triangles (a floor's diagonal, a box's corner).
+  explicit TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality = BuildQuality::High);
+  ~TriangleScene();
+  TriangleScene(const TriangleScene&) = delete;
+  TriangleScene& operator=(const TriangleScene&) = delete;
+
+  struct Hit {
+    float t = 0;  // in units of the direction's length
+    ClassId label = ClassId::Unknown;
+    bool hit = false;
+  };
+
+  // First surface along origin + t * direction with t in [t_near, t_far].
+  Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) const;
+
+  // A batch of rays from one origin: t_out[i] is the hit distance (infinity on
+  // a miss), label_out[i] its class. Allocates nothing.
+  void intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions, float t_near,
+                       float t_far, std::span<float> t_out, std::span<std::uint8_t> label_out,
+                       RayBatchMode mode = RayBatchMode::Single) const;
+
+  // blocked[i] = 1 when segments[i] meets a triangle, else 0; TBB-parallel
+  // over the batch, allocation-free. A surface test: a segment lying wholly
+  // inside a closed mesh, and a zero-length segment, are not blocked. Agrees
+  // with the exact reference except near a surface (kSurfaceTolerance). The
+  // answers do not depend on the thread count. Throws sarmap::Error
+  // (InvalidArgument) when the spans differ in size, and, naming the lowest
+  // such index, for an endpoint that is not finite (InvalidArgument) or
+  // beyond kMaxSceneCoordinate (OutOfRange); `blocked` is then unspecified.
+  void segments_blocked(std::span<const Segment> segments, std::span<std::uint8_t> blocked,
+                        RayBatchMode mode = RayBatchMode::Single) const;
+
+  ClassId geometry_label(std::uint32_t geometry) const { return labels_[geometry]; }
+  std::size_t geometry_count() const { return labels_.size(); }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<ClassId> labels_;
+};
+
+}  // namespace sarmap::geometry
