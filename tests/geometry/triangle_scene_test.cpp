@@ -1,0 +1,129 @@
+// Tests of engine/geometry/triangle_scene.hpp's ray queries and mesh checks:
+// the first hit and its class, the ray interval, single rays and packets
+// giving the same hits, and bad meshes refused with the mesh's name.
+#include "engine/geometry/triangle_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "engine/core/error.hpp"
+#include "engine/geometry/oriented_box.hpp"
+
+namespace sarmap::geometry {
+namespace {
+
+ClassedMesh labelled(ClassedMesh m, ClassId label, std::string name) {
+  m.label = label;
+  m.name = std::move(name);
+  return m;
+}
+
+// A wall across x = 2 (0.2 m thick) and a box behind it at x = 4..5.
+std::vector<ClassedMesh> wall_and_box() {
+  return {labelled(box_mesh(yawed_box({2, 0, 0.6}, {0.2, 4, 1.2}, 0)), ClassId::Wall, "wall"),
+          labelled(box_mesh(yawed_box({4.5, 0, 0.5}, {1, 1, 1}, 0)), ClassId::Other, "box")};
+}
+
+TEST(TriangleScene, FirstHitCarriesItsMeshClass) {
+  const TriangleScene scene(wall_and_box());
+  ASSERT_EQ(scene.geometry_count(), 2u);
+  auto hit = scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 1.9, 1e-6);
+  EXPECT_EQ(hit.label, ClassId::Wall);
+  // Over the wall, onto the box's top.
+  hit = scene.intersect({4.5f, 0, 3}, {0, 0, -1}, 0, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 2.0, 1e-6);
+  EXPECT_EQ(hit.label, ClassId::Other);
+  // t is in units of the direction's length.
+  hit = scene.intersect({0, 0, 0.5f}, {2, 0, 0}, 0, 100);
+  EXPECT_NEAR(hit.t, 0.95, 1e-6);
+}
+
+TEST(TriangleScene, RayIntervalIsRespected) {
+  const TriangleScene scene(wall_and_box());
+  // Starting past the wall's near face, the next hit is its far face.
+  auto hit = scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 2.0f, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 2.1, 1e-6);
+  EXPECT_FALSE(scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 1.8f).hit);
+  EXPECT_FALSE(scene.intersect({0, 0, 0.5f}, {-1, 0, 0}, 0, 100).hit);
+}
+
+TEST(TriangleScene, SingleRaysAndPacketsGiveTheSameHits) {
+  const TriangleScene scene(wall_and_box());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1, 1);
+  // 1000 rays: not a multiple of 16, so the last packet is partly empty.
+  std::vector<Eigen::Vector3f> dirs(1000);
+  // Mostly towards +x, where the wall and the box are.
+  for (auto& d : dirs) d = Eigen::Vector3f(u(rng) + 1.2f, u(rng), u(rng)).normalized();
+  std::vector<float> t1(dirs.size()), t16(dirs.size());
+  std::vector<std::uint8_t> l1(dirs.size()), l16(dirs.size());
+  const Eigen::Vector3f origin(0, 0, 0.5f);
+  scene.intersect_batch(origin, dirs, 0, 100, t1, l1, RayBatchMode::Single);
+  scene.intersect_batch(origin, dirs, 0, 100, t16, l16, RayBatchMode::Packet16);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    ASSERT_EQ(l1[i], l16[i]) << i;
+    ASSERT_TRUE(t1[i] == t16[i]) << i << ": " << t1[i] << " vs " << t16[i];
+    const auto one = scene.intersect(origin, dirs[i], 0, 100);
+    ASSERT_EQ(one.hit, std::isfinite(t1[i])) << i;
+    if (one.hit) {
+      ++hits;
+      EXPECT_EQ(one.t, t1[i]);
+      EXPECT_EQ(static_cast<std::uint8_t>(one.label), l1[i]);
+    }
+  }
+  EXPECT_GT(hits, 100u);
+  EXPECT_LT(hits, 900u);
+}
+
+TEST(TriangleScene, EmptyMeshesAreSkipped) {
+  std::vector<ClassedMesh> meshes = wall_and_box();
+  meshes.insert(meshes.begin(), labelled(ClassedMesh{}, ClassId::Terrain, "empty"));
+  const TriangleScene scene(meshes);
+  EXPECT_EQ(scene.geometry_count(), 2u);
+  EXPECT_EQ(scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 100).label, ClassId::Wall);
+}
+
+// The error's message, or "" when nothing is thrown.
+std::string build_error(const ClassedMesh& bad) {
+  std::vector<ClassedMesh> meshes = wall_and_box();
+  meshes.push_back(bad);
+  try {
+    const TriangleScene scene(meshes);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidData);
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TriangleScene, BadMeshesAreRefusedByName) {
+  ClassedMesh m = labelled(box_mesh(yawed_box({0, 0, 0}, {1, 1, 1}, 0)), ClassId::Other, "crate 7");
+  ClassedMesh bad = m;
+  bad.indices[5] = 8;
+  EXPECT_EQ(build_error(bad), "crate 7: triangle index out of range");
+  bad = m;
+  bad.indices.pop_back();
+  EXPECT_EQ(build_error(bad), "crate 7: index count is not a multiple of 3");
+  bad = m;
+  bad.vertices[3].y() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(build_error(bad), "crate 7: vertex 3 is not finite");
+  bad = m;
+  bad.vertices[6].z() = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(build_error(bad), "crate 7: vertex 6 is not finite");
+  bad = m;
+  bad.vertices[0].x() = 3e5f;
+  EXPECT_EQ(build_error(bad), "crate 7: vertex 0 lies beyond 100000 m");
+  EXPECT_EQ(build_error(m), "");
+}
+
+}  // namespace
+}  // namespace sarmap::geometry
