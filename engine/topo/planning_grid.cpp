@@ -8,7 +8,8 @@
 
 namespace sarmap::topo {
 
-PlanningGrid::PlanningGrid(int width, int height, double resolution, Eigen::Vector2d origin, CellState fill)
+PlanningGrid::PlanningGrid(int width, int height, double resolution, const Eigen::Vector2d& origin,
+                           CellState fill)
     : width_(width), height_(height), resolution_(resolution), origin_(origin) {
   if (width <= 0 || height <= 0 ||
       static_cast<std::int64_t>(width) * height > std::numeric_limits<std::int32_t>::max()) {

@@ -27,7 +27,7 @@ class PlanningGrid {
   // sarmap::Error (InvalidArgument) unless width and height are positive
   // with a product below 2^31, and resolution and origin are finite
   // (resolution > 0).
-  PlanningGrid(int width, int height, double resolution, Eigen::Vector2d origin,
+  PlanningGrid(int width, int height, double resolution, const Eigen::Vector2d& origin,
                CellState fill = CellState::Unknown);
 
   int width() const { return width_; }
