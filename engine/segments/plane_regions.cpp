@@ -5,14 +5,16 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/flat_key_index.hpp"
 
 namespace sarmap::segments {
 namespace {
 
-struct Cell {
-  std::int64_t x, y;
-  friend auto operator<=>(const Cell&, const Cell&) = default;
-};
+// Two cell indices in one word (offset so negatives pack too).
+std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
+  constexpr std::int64_t kOffset = std::int64_t{1} << 31;
+  return (static_cast<std::uint64_t>(x + kOffset) << 32) | static_cast<std::uint32_t>(y + kOffset);
+}
 
 }  // namespace
 
@@ -21,57 +23,49 @@ std::vector<std::vector<std::uint32_t>> plane_regions(std::span<const Eigen::Vec
     throw Error(ErrorCode::InvalidArgument, "region growing: cell size must be > 0, got " + std::to_string(cell));
   }
   const std::size_t n = points.size();
-  // Points sorted by cell; each distinct cell is a node of the flood fill.
-  std::vector<std::pair<Cell, std::uint32_t>> by_cell(n);
+  // Cells numbered in the order of their first point; the flood fill starts
+  // from them in that order, so region numbers do not depend on hashing.
+  FlatKeyIndex cells(n / 2 + 16);
+  std::vector<std::int64_t> cx(n), cy(n);
+  std::vector<std::uint32_t> cell_of(n);
   for (std::size_t i = 0; i < n; ++i) {
-    by_cell[i] = {{static_cast<std::int64_t>(std::floor(points[i].x() / cell)),
-                   static_cast<std::int64_t>(std::floor(points[i].y() / cell))},
-                  static_cast<std::uint32_t>(i)};
+    cx[i] = static_cast<std::int64_t>(std::floor(points[i].x() / cell));
+    cy[i] = static_cast<std::int64_t>(std::floor(points[i].y() / cell));
+    cell_of[i] = cells.find_or_insert(cell_key(cx[i], cy[i]));
   }
-  std::sort(by_cell.begin(), by_cell.end());
-  std::vector<Cell> cells;
-  std::vector<std::size_t> first;  // index into by_cell of each cell's first point
+  const std::size_t cell_count = cells.size();
+  std::vector<std::int64_t> cell_x(cell_count), cell_y(cell_count);
   for (std::size_t i = 0; i < n; ++i) {
-    if (cells.empty() || cells.back() != by_cell[i].first) {
-      cells.push_back(by_cell[i].first);
-      first.push_back(i);
-    }
+    cell_x[cell_of[i]] = cx[i];
+    cell_y[cell_of[i]] = cy[i];
   }
-  first.push_back(n);
-  auto find_cell = [&cells](const Cell& c) -> std::ptrdiff_t {
-    const auto it = std::lower_bound(cells.begin(), cells.end(), c);
-    return it != cells.end() && *it == c ? it - cells.begin() : -1;
-  };
-
-  std::vector<std::vector<std::uint32_t>> regions;
-  std::vector<bool> reached(cells.size(), false);
-  std::vector<std::size_t> frontier;
-  for (std::size_t seed = 0; seed < cells.size(); ++seed) {
-    if (reached[seed]) continue;
-    reached[seed] = true;
+  constexpr std::uint32_t kUnreached = 0xffffffffu;
+  std::vector<std::uint32_t> region_of(cell_count, kUnreached);
+  std::vector<std::uint32_t> frontier;
+  std::uint32_t regions = 0;
+  for (std::uint32_t seed = 0; seed < cell_count; ++seed) {
+    if (region_of[seed] != kUnreached) continue;
+    region_of[seed] = regions;
     frontier.assign(1, seed);
-    std::vector<std::uint32_t> region;
     while (!frontier.empty()) {
-      const std::size_t c = frontier.back();
+      const std::uint32_t c = frontier.back();
       frontier.pop_back();
-      for (std::size_t i = first[c]; i < first[c + 1]; ++i) region.push_back(by_cell[i].second);
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const std::ptrdiff_t next = find_cell({cells[c].x + dx, cells[c].y + dy});
-          if (next >= 0 && !reached[static_cast<std::size_t>(next)]) {
-            reached[static_cast<std::size_t>(next)] = true;
-            frontier.push_back(static_cast<std::size_t>(next));
+          const std::uint32_t next = cells.find(cell_key(cell_x[c] + dx, cell_y[c] + dy));
+          if (next != FlatKeyIndex::kAbsent && region_of[next] == kUnreached) {
+            region_of[next] = regions;
+            frontier.push_back(next);
           }
         }
       }
     }
-    std::sort(region.begin(), region.end());
-    regions.push_back(std::move(region));
+    ++regions;
   }
-  std::sort(regions.begin(), regions.end(), [](const auto& a, const auto& b) {
-    return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
-  });
-  return regions;
+  std::vector<std::vector<std::uint32_t>> out(regions);
+  for (std::uint32_t i = 0; i < n; ++i) out[region_of[cell_of[i]]].push_back(i);
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  return out;
 }
 
 }  // namespace sarmap::segments

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string>
 #include <unordered_map>
 
@@ -22,6 +23,7 @@ namespace sarmap::segments {
 SegmentUpdate& SegmentUpdate::operator+=(const SegmentUpdate& o) {
   points_in += o.points_in;
   points_rejected += o.points_rejected;
+  points_far += o.points_far;
   points_new += o.points_new;
   points_changed += o.points_changed;
   points_attached += o.points_attached;
@@ -50,12 +52,17 @@ struct SegmentMap::Record {
   Bounds box;
   bool changed = false;
   std::vector<std::uint32_t> left;  // points detached during this call
+  std::size_t lost_since_rebuild = 0;  // points that left for good since the last repair
 };
 
 // One call's scratch.
 struct SegmentMap::Work {
   SegmentUpdate update;
   std::vector<std::uint32_t> fresh;  // points new, relabelled or moved in this call
+  // A reclassified region is re-derived at once; a scan's few boundary votes
+  // wait until they add up (their moments are exact meanwhile, only the
+  // outline and the split check lag).
+  bool rebuild_every_loss = false;
 };
 
 namespace {
@@ -112,46 +119,84 @@ SegmentMap& SegmentMap::operator=(SegmentMap&&) noexcept = default;
 SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vector3d& origin) {
   require_labels(points);
   if (!origin.allFinite()) throw Error(ErrorCode::InvalidArgument, "segments: the scan's origin is not finite");
+  // Look-ups first, in parallel (the map does not change while they run);
+  // then every change in point order, so the result is the same on any
+  // thread count.
+  enum Verdict : std::uint8_t { kSkip, kNonFinite, kFar, kBeyondReach, kLookedUp };
+  const std::size_t n = points.size();
+  std::vector<Verdict> verdict(n, kSkip);
+  std::vector<std::uint64_t> keys(n);
+  std::vector<std::uint32_t> found(n, FlatKeyIndex::kAbsent);
+  std::vector<float> ranges(n);
+  const double max_range = settings_.max_range;
+  const auto labels = points.labels();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      const auto label = class_from_value(labels[i]);
+      if (!label || *label == ClassId::Unknown) continue;
+      const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+      if (!p.allFinite()) {
+        verdict[i] = kNonFinite;
+        continue;
+      }
+      const double distance = (p - origin).norm();
+      ranges[i] = static_cast<float>(distance);
+      if (max_range > 0 && distance > max_range) {
+        verdict[i] = kFar;
+        continue;
+      }
+      const std::optional<std::uint64_t> key = voxels_.key_of(p);
+      if (!key) {
+        verdict[i] = kBeyondReach;
+        continue;
+      }
+      keys[i] = *key;
+      verdict[i] = kLookedUp;
+      if (const auto stored = voxels_.find(*key)) found[i] = *stored;
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    if (verdict[i] == kNonFinite) {
+      throw Error(ErrorCode::InvalidArgument, "segments: point " + std::to_string(i) + " is not finite");
+    }
+  }
   ++calls_;
   const auto scan = static_cast<std::uint32_t>(origins_.size());
   origins_.push_back(origin);
   Work work;
-  const auto labels = points.labels();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const auto label = class_from_value(labels[i]);
-    if (!label || *label == ClassId::Unknown) continue;
-    const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
-    if (!p.allFinite()) {
-      throw Error(ErrorCode::InvalidArgument, "segments: point " + std::to_string(i) + " is not finite");
-    }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (verdict[i] == kSkip) continue;
     ++work.update.points_in;
-    const std::optional<std::uint64_t> key = voxels_.key_of(p);
-    if (!key) {
+    if (verdict[i] == kFar) {
+      ++work.update.points_far;
+      continue;
+    }
+    if (verdict[i] == kBeyondReach) {
       ++work.update.points_rejected;
       continue;
     }
-    const auto range = static_cast<float>((p - origin).norm());
-    const std::optional<std::uint32_t> stored = voxels_.find(*key);
+    const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+    const auto label = static_cast<ClassId>(labels[i]);
+    // A voxel first filled by an earlier point of this very scan.
+    const std::optional<std::uint32_t> stored =
+        found[i] != FlatKeyIndex::kAbsent ? std::optional<std::uint32_t>(found[i]) : voxels_.find(keys[i]);
     if (!stored) {
-      queue(work, voxels_.add(*key, p, *label, range, scan));
+      queue(work, voxels_.add(keys[i], p, label, ranges[i], scan));
       ++work.update.points_new;
       continue;
     }
     const std::uint32_t k = *stored;
     const auto before = static_cast<ClassId>(voxels_.label[k]);
-    const ClassId after = voxels_.vote(k, *label);
+    const ClassId after = voxels_.vote(k, label);
     // A voxel that changes class takes this point, of the new class, as its
     // own: a floor point labelled wall would tilt the wall's plane.
-    const bool replace = after != before || range < voxels_.range[k] * settings_.closer_view_ratio;
-    if (!replace) continue;
+    if (after == before && !(ranges[i] < voxels_.range[k] * settings_.closer_view_ratio)) continue;
     detach(k);
-    {
-      voxels_.x[k] = static_cast<float>(p.x());
-      voxels_.y[k] = static_cast<float>(p.y());
-      voxels_.z[k] = static_cast<float>(p.z());
-      voxels_.range[k] = range;
-      voxels_.scan[k] = scan;
-    }
+    voxels_.x[k] = static_cast<float>(p.x());
+    voxels_.y[k] = static_cast<float>(p.y());
+    voxels_.z[k] = static_cast<float>(p.z());
+    voxels_.range[k] = ranges[i];
+    voxels_.scan[k] = scan;
     ++work.update.points_changed;
     queue(work, k);
   }
@@ -162,6 +207,7 @@ SegmentUpdate SegmentMap::reclassify(const PointBuffer& points) {
   require_labels(points);
   ++calls_;
   Work work;
+  work.rebuild_every_loss = true;
   const auto labels = points.labels();
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto label = class_from_value(labels[i]);
@@ -239,44 +285,60 @@ void SegmentMap::add_pending(std::uint32_t point, ClassId label, Work&) {
   ++new_pending_[c];
 }
 
-void SegmentMap::attach_points(const std::vector<std::uint32_t>& points, Work& work, bool fresh) {
-  // Which segment may a point join? Those of its class whose box, grown by
-  // the region-growing reach, holds it: found through a coarse grid.
-  const double margin = settings_.cluster_radius + settings_.distance_threshold;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> index;
+// Which segments may a point lie on? Those whose box, grown by a margin,
+// holds it: found through a coarse grid of cells.
+struct SegmentMap::SegmentIndex {
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+
+  std::span<const std::uint32_t> at(const Eigen::Vector3d& p) const {
+    const auto it = cells.find(cell_key(cell_of(p.x()), cell_of(p.y()), cell_of(p.z())));
+    return it == cells.end() ? std::span<const std::uint32_t>() : std::span<const std::uint32_t>(it->second);
+  }
+};
+
+SegmentMap::SegmentIndex SegmentMap::index_segments(double margin) const {
+  SegmentIndex index;
   for (std::uint32_t id = 0; id < records_.size(); ++id) {
     const Record& r = records_[id];
     if (!r.alive || r.box.empty()) continue;
     const Eigen::Vector3d lo = r.box.min.array() - margin, hi = r.box.max.array() + margin;
     for (std::int64_t x = cell_of(lo.x()); x <= cell_of(hi.x()); ++x) {
       for (std::int64_t y = cell_of(lo.y()); y <= cell_of(hi.y()); ++y) {
-        for (std::int64_t z = cell_of(lo.z()); z <= cell_of(hi.z()); ++z) index[cell_key(x, y, z)].push_back(id);
+        for (std::int64_t z = cell_of(lo.z()); z <= cell_of(hi.z()); ++z) index.cells[cell_key(x, y, z)].push_back(id);
       }
     }
   }
+  return index;
+}
+
+std::vector<std::int64_t> SegmentMap::nearest_segments(const std::vector<std::uint32_t>& points,
+                                                       double max_distance) const {
+  const SegmentIndex index = index_segments(settings_.cluster_radius + max_distance);
   std::vector<std::int64_t> choice(points.size(), -1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k < range.end(); ++k) {
-                        const std::uint32_t point = points[k];
-                        const auto label = static_cast<ClassId>(voxels_.label[point]);
+                        const auto label = static_cast<ClassId>(voxels_.label[points[k]]);
                         if (!is_segmented_class(label)) continue;
-                        const Eigen::Vector3d p = voxels_.position(point);
-                        const auto it = index.find(cell_key(cell_of(p.x()), cell_of(p.y()), cell_of(p.z())));
-                        if (it == index.end()) continue;
+                        const Eigen::Vector3d p = voxels_.position(points[k]);
                         double best = std::numeric_limits<double>::infinity();
-                        for (std::uint32_t id : it->second) {
+                        for (std::uint32_t id : index.at(p)) {
                           const Segment& s = records_[id].view;
                           if (s.label != label) continue;
                           const double d = std::abs(s.plane.distance(p));
                           // Ids come in increasing order: ties keep the lower one.
-                          if (d <= settings_.distance_threshold && d < best && s.covers(p, settings_.cluster_radius)) {
+                          if (d <= max_distance && d < best && s.covers(p, settings_.cluster_radius)) {
                             best = d;
                             choice[k] = id;
                           }
                         }
                       }
                     });
+  return choice;
+}
+
+void SegmentMap::attach_points(const std::vector<std::uint32_t>& points, Work& work, bool fresh) {
+  const std::vector<std::int64_t> choice = nearest_segments(points, settings_.distance_threshold);
   for (std::size_t k = 0; k < points.size(); ++k) {
     const std::uint32_t point = points[k];
     if (choice[k] >= 0) {
@@ -292,14 +354,24 @@ void SegmentMap::attach_points(const std::vector<std::uint32_t>& points, Work& w
 void SegmentMap::compact_members(Record& r, std::uint32_t id) {
   std::vector<std::uint32_t> kept;
   kept.reserve(r.moments.count());
+  const std::uint32_t stamp = next_mark();
   for (std::uint32_t point : r.members) {
-    if (voxels_.owner[point] == static_cast<std::int32_t>(id)) kept.push_back(point);
+    // A point that left and came back is listed twice.
+    if (voxels_.owner[point] != static_cast<std::int32_t>(id) || marks_[point] == stamp) continue;
+    marks_[point] = stamp;
+    kept.push_back(point);
   }
-  // A point that left and came back is listed twice.
-  std::sort(kept.begin(), kept.end());
-  kept.erase(std::unique(kept.begin(), kept.end()), kept.end());
   r.members = std::move(kept);
   r.stale = 0;
+}
+
+std::uint32_t SegmentMap::next_mark() {
+  marks_.resize(voxels_.size(), 0);
+  if (++mark_ == 0) {
+    std::fill(marks_.begin(), marks_.end(), 0);
+    mark_ = 1;
+  }
+  return mark_;
 }
 
 void SegmentMap::repair(std::uint32_t id, Work& work) {
@@ -314,6 +386,7 @@ void SegmentMap::repair(std::uint32_t id, Work& work) {
   r.outline.clear();
   r.box = Bounds();
   r.changed = true;
+  r.lost_since_rebuild = 0;
   std::vector<std::vector<std::uint32_t>> parts;
   if (members.size() >= settings_.min_points) {
     PlaneMoments moments;
@@ -366,14 +439,33 @@ void SegmentMap::search(ClassId label, Work& work) {
   auto still_pending = [&](std::uint32_t point) {
     return voxels_.pending[point] == c && voxels_.owner[point] == LabelledVoxels::kNoSegment;
   };
-  std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
   // A point queued again after it waited is listed twice.
-  std::sort(list.begin(), list.end());
-  list.erase(std::unique(list.begin(), list.end()), list.end());
+  const std::uint32_t stamp = next_mark();
+  std::erase_if(list, [&](std::uint32_t point) {
+    if (!still_pending(point) || marks_[point] == stamp) return true;
+    marks_[point] = stamp;
+    return false;
+  });
   // Segments grow between searches: a waiting point may lie on one now.
   attach_points(list, work, false);
   std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
-  if (list.size() < settings_.min_points) return;
+  // Points in a known segment's noise band (within merge_offset of its plane,
+  // on its outline) are its noise, not a surface of their own: searched,
+  // they would give thin tilted slabs beside it.
+  const std::vector<std::int64_t> shadowing = nearest_segments(list, settings_.merge_offset);
+  std::vector<std::uint32_t> shadowed;
+  std::vector<std::uint32_t> searched;
+  for (std::size_t k = 0; k < list.size(); ++k) (shadowing[k] >= 0 ? shadowed : searched).push_back(list[k]);
+  auto count_round = [&](std::uint32_t point) {
+    if (++voxels_.rounds[point] >= settings_.max_search_rounds) voxels_.pending[point] = 0;
+  };
+  for (std::uint32_t point : shadowed) count_round(point);
+  list = std::move(searched);
+  if (list.size() < settings_.min_points) {
+    list.insert(list.end(), shadowed.begin(), shadowed.end());
+    std::erase_if(pending_[c], [&](std::uint32_t point) { return !still_pending(point); });
+    return;
+  }
 
   std::vector<float> x(list.size()), y(list.size()), z(list.size());
   for (std::size_t k = 0; k < list.size(); ++k) {
@@ -391,9 +483,9 @@ void SegmentMap::search(ClassId label, Work& work) {
     ++work.update.created;
   }
   for (std::uint32_t point : list) {
-    if (!still_pending(point)) continue;
-    if (++voxels_.rounds[point] >= settings_.max_search_rounds) voxels_.pending[point] = 0;
+    if (still_pending(point)) count_round(point);
   }
+  list.insert(list.end(), shadowed.begin(), shadowed.end());
   std::erase_if(list, [&](std::uint32_t point) { return !still_pending(point); });
 }
 
@@ -480,11 +572,15 @@ SegmentUpdate SegmentMap::finish(Work& work) {
   for (std::uint32_t id = 0; id < records_.size(); ++id) {
     Record& r = records_[id];
     if (!r.alive || r.left.empty()) continue;
-    const bool lost = std::any_of(r.left.begin(), r.left.end(), [&](std::uint32_t point) {
+    r.lost_since_rebuild += static_cast<std::size_t>(std::count_if(r.left.begin(), r.left.end(), [&](std::uint32_t point) {
       return voxels_.owner[point] != static_cast<std::int32_t>(id);
-    });
+    }));
     r.left.clear();
-    if (lost) {
+    const std::size_t count = r.moments.count();
+    const bool due = r.lost_since_rebuild > 0 &&
+                     (work.rebuild_every_loss || count < 2 * settings_.min_points ||
+                      r.lost_since_rebuild >= std::max(settings_.min_points, count / 20));
+    if (due) {
       repair(id, work);
     } else if (r.stale > r.members.size() / 2) {
       compact_members(r, id);

@@ -31,6 +31,7 @@ namespace sarmap::segments {
 struct SegmentUpdate {
   std::size_t points_in = 0;        // labelled points offered
   std::size_t points_rejected = 0;  // beyond the voxel keys' reach
+  std::size_t points_far = 0;       // farther from the sensor than max_range
   std::size_t points_new = 0;       // voxels seen for the first time
   std::size_t points_changed = 0;   // stored points relabelled or replaced by a closer view
   std::size_t points_attached = 0;  // points that joined an existing segment
@@ -54,7 +55,8 @@ class SegmentMap {
   const SegmentSettings& settings() const { return settings_; }
 
   // Adds one scan's world-frame points, labelled with class ids, seen from
-  // `origin`. Points of class unknown are skipped. Throws sarmap::Error
+  // `origin`. Points of class unknown, and points farther than max_range
+  // from the origin, are skipped. Throws sarmap::Error
   // (InvalidArgument) when the points carry no labels or a point or the
   // origin is not finite.
   SegmentUpdate integrate(const PointBuffer& points, const Eigen::Vector3d& origin);
@@ -93,12 +95,20 @@ class SegmentMap {
  private:
   struct Record;
   struct Work;
+  struct SegmentIndex;
 
   SegmentUpdate finish(Work& work);
   void queue(Work& work, std::uint32_t point);
   void attach(std::uint32_t point, std::uint32_t id);
   void detach(std::uint32_t point);
   void add_pending(std::uint32_t point, ClassId label, Work& work);
+  SegmentIndex index_segments(double margin) const;
+  // Per point, the segment of its class whose plane is nearest and at most
+  // max_distance away, with the point on its rectangle grown by the
+  // region-growing reach; -1 for none.
+  std::vector<std::int64_t> nearest_segments(const std::vector<std::uint32_t>& points, double max_distance) const;
+  // Points with a segment within the inlier distance join it; the others,
+  // when fresh, wait for a plane search.
   void attach_points(const std::vector<std::uint32_t>& points, Work& work, bool fresh);
   void repair(std::uint32_t id, Work& work);
   void search(ClassId label, Work& work);
@@ -107,6 +117,8 @@ class SegmentMap {
   void merge_changed(Work& work);
   void refresh(std::uint32_t id);
   void compact_members(Record& record, std::uint32_t id);
+  // A fresh stamp for marks_: points marked with it were seen in this pass.
+  std::uint32_t next_mark();
   Eigen::Vector3d origin_of(std::uint32_t point) const;
   bool known_origin(std::uint32_t point) const;
 
@@ -115,6 +127,8 @@ class SegmentMap {
   std::vector<Eigen::Vector3d> origins_;  // per integrated scan
   std::vector<std::uint64_t> queued_in_;  // per point: the call that last queued it
   std::uint64_t calls_ = 0;
+  std::vector<std::uint32_t> marks_;  // per point, for de-duplicating lists
+  std::uint32_t mark_ = 0;
   std::vector<Record> records_;           // indexed by segment id; dead ones stay
   std::vector<std::int64_t> merged_into_;  // per id: survivor, -1 alive, -2 dissolved
   std::vector<std::pair<std::uint32_t, std::uint32_t>> merges_;

@@ -65,8 +65,11 @@ double rectangle_gap(const Segment& a, const Segment& b) {
 bool same_surface(const Segment& a, const Segment& b, const SegmentSettings& s) {
   if (a.label != b.label) return false;
   if (a.plane.normal.dot(b.plane.normal) < std::cos(s.merge_angle_deg * std::numbers::pi / 180.0)) return false;
-  if (std::abs(a.plane.distance(b.centroid)) > s.merge_offset) return false;
-  if (std::abs(b.plane.distance(a.centroid)) > s.merge_offset) return false;
+  // The smaller segment's centroid against the larger one's plane: a small
+  // segment's plane, tilted by a degree, would miss a far centroid.
+  const Segment& large = a.inliers >= b.inliers ? a : b;
+  const Segment& small = a.inliers >= b.inliers ? b : a;
+  if (std::abs(large.plane.distance(small.centroid)) > s.merge_offset) return false;
   return rectangle_gap(a, b) <= s.merge_gap;
 }
 

@@ -1,6 +1,6 @@
 // When two segments are one surface: same class, normals within an angle,
-// each centroid near the other's plane, and rectangles that overlap or lie
-// within a gap of each other (a doorway keeps two walls apart).
+// the smaller one's centroid near the larger one's plane, and rectangles that
+// overlap or lie within a gap of each other (a doorway keeps two walls apart).
 #pragma once
 
 #include "engine/segments/segment.hpp"

@@ -26,6 +26,7 @@ void validate(const SegmentSettings& s) {
   require(s.merge_angle_deg >= 0 && s.merge_angle_deg < 90, "merge_angle_deg must be in [0, 90)");
   require(s.merge_offset >= 0 && std::isfinite(s.merge_offset), "merge_offset must be >= 0");
   require(s.merge_gap >= 0 && std::isfinite(s.merge_gap), "merge_gap must be >= 0");
+  require(s.max_range >= 0 && std::isfinite(s.max_range), "max_range must be >= 0 (0 = no limit)");
   require(s.closer_view_ratio > 0 && s.closer_view_ratio <= 1, "closer_view_ratio must be in (0, 1]");
   require(s.max_search_rounds >= 1 && s.max_search_rounds <= 255, "max_search_rounds must be in [1, 255]");
 }

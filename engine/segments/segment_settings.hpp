@@ -27,12 +27,18 @@ struct SegmentSettings {
   // (region growing over a grid of this cell size, metres).
   double cluster_radius = 0.1;
   // Two segments of one class are one surface when their normals agree within
-  // merge_angle_deg, each centroid lies within merge_offset (metres) of the
-  // other's plane, and their rectangles overlap or are at most merge_gap apart
+  // merge_angle_deg, the smaller one's centroid lies within merge_offset
+  // (metres) of the larger one's plane, and their rectangles overlap or are at most merge_gap apart
   // (metres; well below the arenas' doorways, which are at least 0.6 m wide).
   double merge_angle_deg = 5.0;
   double merge_offset = 0.04;
   double merge_gap = 0.15;
+  // Points farther than this from the sensor (metres) are left out; 0 keeps
+  // all. A depth camera's noise grows with the square of the range (about
+  // 1.4 cm at 3 m for a Kinect-class camera) and would pass the inlier
+  // distance; a surface seen only from farther waits until the robot comes
+  // closer. LiDARs, whose noise does not grow so, can raise it.
+  double max_range = 3.0;
   // A stored point gives way to a later one in its voxel seen from at most
   // this fraction of its range: depth noise grows with range.
   double closer_view_ratio = 0.7;

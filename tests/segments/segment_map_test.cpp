@@ -179,7 +179,9 @@ TEST(SegmentMap, SameSegmentsOnOneAndTwoThreads) {
 }
 
 TEST(SegmentMap, CloserViewsReplaceFarPoints) {
-  SegmentMap map;
+  SegmentSettings settings;
+  settings.max_range = 0;  // the far view is 8 m away
+  SegmentMap map(settings);
   PointBuffer far, near;
   add_patch(far, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, ClassId::Terrain}, 0.02, 0.004, 3);
   add_patch(near, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, ClassId::Terrain}, 0.02, 0.0);
@@ -224,8 +226,10 @@ TEST(SegmentMap, BadInputIsAClearError) {
   EXPECT_THROW(map.integrate(ok, Eigen::Vector3d(0, std::nan(""), 0)), Error);
 }
 
-TEST(SegmentMap, FarPointsAreCountedNotStored) {
-  SegmentMap map;
+TEST(SegmentMap, PointsBeyondReachOrRangeAreCountedNotStored) {
+  SegmentSettings settings;
+  settings.max_range = 0;
+  SegmentMap map(settings);
   PointBuffer p;
   p.enable_labels();
   p.push_back(0, 0, 0);
@@ -235,6 +239,11 @@ TEST(SegmentMap, FarPointsAreCountedNotStored) {
   EXPECT_EQ(u.points_in, 2u);
   EXPECT_EQ(u.points_rejected, 1u);
   EXPECT_EQ(map.point_count(), 1u);
+  SegmentMap near_only;  // max_range 3 m by default
+  p.x()[1] = 3.5f;
+  const SegmentUpdate v = near_only.integrate(p, Eigen::Vector3d::Zero());
+  EXPECT_EQ(v.points_far, 1u);
+  EXPECT_EQ(near_only.point_count(), 1u);
 }
 
 }  // namespace
