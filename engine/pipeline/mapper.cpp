@@ -27,7 +27,8 @@ Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
     : config_(config),
       map_(map_settings(config)),
       integrator_(integrator_settings(config, sensor)),
-      classifier_(make_point_classifier(config.classifier)) {
+      classifier_(make_point_classifier(config.classifier)),
+      segments_(config.segments) {
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
   }
@@ -86,6 +87,18 @@ void Mapper::integrate(Scan& scan) {
       blocks_dropped_ += dropped;
       profile_.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
     }
+  }
+  {
+    const auto timer = profile_.time("segment");
+    const segments::SegmentUpdate u = segments_.integrate(scan.points, scan.origin);
+    profile_.add_count("segment", "points_in", static_cast<double>(u.points_in));
+    profile_.add_count("segment", "points_far", static_cast<double>(u.points_far));
+    profile_.add_count("segment", "points_new", static_cast<double>(u.points_new));
+    profile_.add_count("segment", "points_attached", static_cast<double>(u.points_attached));
+    profile_.add_count("segment", "planes_found", static_cast<double>(u.planes_found));
+    profile_.add_count("segment", "created", static_cast<double>(u.created));
+    profile_.add_count("segment", "merged", static_cast<double>(u.merged));
+    profile_.add_count("segment", "removed", static_cast<double>(u.removed));
   }
   keep_semantic_points(scan.points);
 }

@@ -1,6 +1,6 @@
 // The pipeline: the only place that knows every stage. A Mapper owns the maps
-// and runs the stages on each scan in order (preprocess, classify, metric),
-// timing each into a StageProfile.
+// and runs the stages on each scan in order (preprocess, classify, metric,
+// segment), timing each into a StageProfile.
 #pragma once
 
 #include <cstddef>
@@ -16,6 +16,7 @@
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/pipeline/point_classifier.hpp"
+#include "engine/segments/segment_map.hpp"
 
 namespace sarmap::pipeline {
 
@@ -33,6 +34,8 @@ struct MapperConfig {
   metric::MapBounds bounds;
   // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
   double semantic_points_voxel = 0.05;
+  // Planar segments of the classified points (segment stage).
+  segments::SegmentSettings segments;
 };
 
 class Mapper {
@@ -54,6 +57,7 @@ class Mapper {
   // Blocks dropped so far by the map bounds.
   std::size_t blocks_dropped() const { return blocks_dropped_; }
   const PointClassifier& classifier() const { return *classifier_; }
+  const segments::SegmentMap& segment_map() const { return segments_; }
   // Classified points kept so far: label = prediction, its per-class scores
   // when the classifier gives them, gt_label = the input's label when it had one.
   const PointBuffer& semantic_points() const { return semantic_points_; }
@@ -69,6 +73,7 @@ class Mapper {
   metric::IntegrationStats stats_;
   std::size_t blocks_dropped_ = 0;
   std::unique_ptr<PointClassifier> classifier_;
+  segments::SegmentMap segments_;
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;

@@ -1,6 +1,6 @@
 // `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
 // builds the maps scan by scan through the pipeline's Mapper and writes map.sarmap, map.bt, voxels.ply,
-// semantic_points.ply, manifest.json and profile.json, each atomically.
+// semantic_points.ply, segments.json, segments.ply, manifest.json and profile.json, each atomically.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +19,7 @@
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper.hpp"
+#include "engine/segments/segment_files.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
@@ -84,6 +85,8 @@ RunSummary run_pipeline(const RunOptions& o) {
   metric::write_octomap_bt(map, o.out / "map.bt");
   write_point_cloud(o.out / "voxels.ply", metric::occupied_voxel_cloud(map));
   write_point_cloud(o.out / "semantic_points.ply", mapper.semantic_points());
+  segments::write_segments_json(o.out / "segments.json", mapper.segment_map());
+  segments::write_segments_ply(o.out / "segments.ply", mapper.segment_map());
 
   nlohmann::ordered_json manifest;
   manifest["sarmap_version"] = kVersion;
@@ -108,7 +111,8 @@ RunSummary run_pipeline(const RunOptions& o) {
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
                                                ? "bayesian"
                                                : "histogram"}});
-  manifest["outputs"] = {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "profile.json"};
+  manifest["outputs"] = {"map.sarmap",    "map.bt",       "voxels.ply",  "semantic_points.ply",
+                         "segments.json", "segments.ply", "profile.json"};
   {
     AtomicFileWriter w(o.out / "manifest.json");
     w.write(manifest.dump(2) + "\n");
@@ -130,8 +134,11 @@ RunSummary run_pipeline(const RunOptions& o) {
     std::printf("%zu scans, %zu points (%zu rejected) -> %zu occupied, %zu free voxels at %.3f m in %.2f s\n",
                 scans, summary.stats.points_in, summary.stats.points_rejected, summary.counts.occupied,
                 summary.counts.free, o.voxel, summary.wall_s);
-    std::printf("wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, manifest.json, profile.json to %s\n",
-                o.out.string().c_str());
+    std::printf("%zu segments\n", mapper.segment_map().size());
+    std::printf(
+        "wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, manifest.json, "
+        "profile.json to %s\n",
+        o.out.string().c_str());
   }
   return summary;
 }
