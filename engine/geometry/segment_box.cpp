@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "engine/core/error.hpp"
 
@@ -76,7 +77,10 @@ double min_outside_distance_squared(const LocalSegment& s, const Eigen::Vector3d
       if (t > 0 && t < 1) cuts[n++] = t;
     }
   }
-  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(n));
+  // Insertion sort: at most 8 values (std::sort here trips GCC 12's -Warray-bounds).
+  for (std::size_t i = 1; i < n; ++i) {
+    for (std::size_t j = i; j > 0 && cuts[j] < cuts[j - 1]; --j) std::swap(cuts[j], cuts[j - 1]);
+  }
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t c = 0; c < n; ++c) best = std::min(best, outside_distance_squared(s.a + cuts[c] * s.u, h));
   for (std::size_t c = 0; c + 1 < n; ++c) {
@@ -113,9 +117,10 @@ bool segment_intersects_box(const Segment& segment, const OrientedBox& box) {
       if (std::abs(s.a[i]) > h[i]) return false;
       continue;
     }
-    const double inv = 1.0 / s.u[i];
-    double lo = (-h[i] - s.a[i]) * inv;
-    double hi = (h[i] - s.a[i]) * inv;
+    // Division, not a reciprocal: a tiny u_i then gives +-infinity, never
+    // the NaN of 0 * infinity.
+    double lo = (-h[i] - s.a[i]) / s.u[i];
+    double hi = (h[i] - s.a[i]) / s.u[i];
     if (lo > hi) std::swap(lo, hi);
     t0 = std::max(t0, lo);
     t1 = std::min(t1, hi);

@@ -99,6 +99,9 @@ TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality q
     if (m.indices.empty()) continue;
     validate_mesh(m);
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree builds with the geometry's quality too (Medium unless told), so
+    // a Low scene would otherwise still pay for a Medium build.
+    rtcSetGeometryBuildQuality(g, embree_quality(quality));
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                           3 * sizeof(float), m.vertices.size()));
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,

@@ -62,6 +62,23 @@ TEST(OrientedBox, NoBottomLeavesOutTheLocalMinusZFace) {
   }
 }
 
+TEST(OrientedBox, AppendedBoxesKeepTheirOwnCornersAndTriangles) {
+  const OrientedBox a = tilted_box();
+  const OrientedBox b = yawed_box({3, 1, 0.6}, {2, 0.1, 1.2}, 1.1);
+  ClassedMesh both;
+  append_box(both, a);
+  append_box(both, b, BoxFaces::NoBottom);
+  const ClassedMesh ma = box_mesh(a), mb = box_mesh(b, BoxFaces::NoBottom);
+  ASSERT_EQ(both.vertices.size(), 16u);
+  ASSERT_EQ(both.indices.size(), ma.indices.size() + mb.indices.size());
+  for (std::size_t i = 0; i < ma.indices.size(); ++i) {
+    EXPECT_EQ(both.vertices[both.indices[i]], ma.vertices[ma.indices[i]]);
+  }
+  for (std::size_t i = 0; i < mb.indices.size(); ++i) {
+    EXPECT_EQ(both.vertices[both.indices[ma.indices.size() + i]], mb.vertices[mb.indices[i]]);
+  }
+}
+
 TEST(OrientedBox, YawedBoxTurnsAboutZ) {
   const OrientedBox b = yawed_box({1, 2, 3}, {4, 2, 6}, std::numbers::pi / 2);
   EXPECT_TRUE(b.half_extents.isApprox(Eigen::Vector3d(2, 1, 3)));
