@@ -45,14 +45,15 @@ const Workload& workload(std::size_t edges, std::size_t walls) {
   std::uniform_real_distribution<double> u(0, 1);
   const double side = std::sqrt(kAreaPerWall * static_cast<double>(walls));
   for (std::size_t i = 0; i < walls; ++i) {
-    w.walls.push_back(
-        yawed_box({side * u(rng), side * u(rng), 0.6}, {0.5 + 3.5 * u(rng), 0.1, 1.2}, 2 * std::numbers::pi * u(rng)));
+    w.walls.push_back(yawed_box({side * u(rng), side * u(rng), 0.6}, {0.5 + 3.5 * u(rng), 0.1, 1.2},
+                                2 * std::numbers::pi * u(rng)));
   }
   for (std::size_t i = 0; i < edges; ++i) {
     const Eigen::Vector3d p(side * u(rng), side * u(rng), 0.1 + 0.4 * u(rng));
     const double yaw = 2 * std::numbers::pi * u(rng);
     const double length = 0.2 + 1.8 * u(rng);
-    const Eigen::Vector3d q(p.x() + length * std::cos(yaw), p.y() + length * std::sin(yaw), 0.1 + 0.4 * u(rng));
+    const Eigen::Vector3d q(p.x() + length * std::cos(yaw), p.y() + length * std::sin(yaw),
+                            0.1 + 0.4 * u(rng));
     w.edges.push_back({p, q});
   }
   return w;
@@ -101,7 +102,8 @@ void set_counters(benchmark::State& state, const Workload& w, const std::vector<
 // build quality (0 low, 1 medium, 2 high). Boxes to meshes, scene build and
 // queries are all timed: the topo map rebuilds its wall scene as walls grow.
 void BM_Embree(benchmark::State& state) {
-  const Workload& w = workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+  const Workload& w =
+      workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
   const auto mode = state.range(3) == 0 ? RayBatchMode::Single : RayBatchMode::Packet16;
   const auto quality = static_cast<BuildQuality>(state.range(4));
   tbb::task_arena arena(static_cast<int>(state.range(2)));
@@ -119,18 +121,21 @@ void BM_Embree(benchmark::State& state) {
 // The parts of BM_Embree apart (arguments: edges, walls, threads, quality):
 // the scene build alone, and the queries on a scene built beforehand.
 void BM_EmbreeBuildOnly(benchmark::State& state) {
-  const Workload& w = workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+  const Workload& w =
+      workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
   tbb::task_arena arena(static_cast<int>(state.range(2)));
   for (auto _ : state) {
     arena.execute([&] {
-      const TriangleScene scene(wall_meshes(w.walls, state.range(4) != 0), static_cast<BuildQuality>(state.range(3)));
+      const TriangleScene scene(wall_meshes(w.walls, state.range(4) != 0),
+                                static_cast<BuildQuality>(state.range(3)));
       benchmark::DoNotOptimize(&scene);
     });
   }
 }
 
 void BM_EmbreeQueryOnly(benchmark::State& state) {
-  const Workload& w = workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+  const Workload& w =
+      workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
   const auto mode = state.range(3) == 0 ? RayBatchMode::Single : RayBatchMode::Packet16;
   tbb::task_arena arena(static_cast<int>(state.range(2)));
   const TriangleScene scene(wall_meshes(w.walls), static_cast<BuildQuality>(state.range(4)));
@@ -146,7 +151,8 @@ void BM_EmbreeQueryOnly(benchmark::State& state) {
 // Also counts the edges where it and Embree disagree (segments within the
 // float tolerance of a wall, or lying wholly inside one).
 void BM_BruteForce(benchmark::State& state) {
-  const Workload& w = workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
+  const Workload& w =
+      workload(static_cast<std::size_t>(state.range(0)), static_cast<std::size_t>(state.range(1)));
   const auto threads = static_cast<int>(state.range(2));
   tbb::task_arena arena(threads);
   std::vector<std::uint8_t> blocked(w.edges.size());
@@ -155,15 +161,17 @@ void BM_BruteForce(benchmark::State& state) {
       brute_force(w, 0, w.edges.size(), blocked);
     } else {
       arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, w.edges.size(), 64),
-                          [&](const tbb::blocked_range<std::size_t>& r) { brute_force(w, r.begin(), r.end(), blocked); });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, w.edges.size(), 64),
+            [&](const tbb::blocked_range<std::size_t>& r) { brute_force(w, r.begin(), r.end(), blocked); });
       });
     }
     benchmark::DoNotOptimize(blocked.data());
   }
   set_counters(state, w, blocked);
   std::vector<std::uint8_t> embree(w.edges.size());
-  arena.execute([&] { TriangleScene(wall_meshes(w.walls), BuildQuality::Low).segments_blocked(w.edges, embree); });
+  arena.execute(
+      [&] { TriangleScene(wall_meshes(w.walls), BuildQuality::Low).segments_blocked(w.edges, embree); });
   // Where Embree and the exact test differ, say why: an edge lying wholly
   // inside a wall (no surface crossed), one within the float tolerance of a
   // wall's surface, or neither (a real disagreement: should stay 0).

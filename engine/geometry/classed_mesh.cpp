@@ -8,7 +8,8 @@
 namespace sarmap::geometry {
 
 void validate_mesh(const ClassedMesh& m) {
-  if (m.indices.size() % 3 != 0) throw Error(ErrorCode::InvalidData, m.name + ": index count is not a multiple of 3");
+  if (m.indices.size() % 3 != 0)
+    throw Error(ErrorCode::InvalidData, m.name + ": index count is not a multiple of 3");
   for (std::uint32_t i : m.indices) {
     if (i >= m.vertices.size()) throw Error(ErrorCode::InvalidData, m.name + ": triangle index out of range");
   }

@@ -13,7 +13,8 @@ OrientedBox yawed_box(const Eigen::Vector3d& center, const Eigen::Vector3d& size
 void append_box(ClassedMesh& m, const OrientedBox& box, BoxFaces faces) {
   if (!box.center.allFinite() || !box.axes.allFinite() || !box.half_extents.allFinite() ||
       (box.half_extents.array() < 0).any()) {
-    throw Error(ErrorCode::InvalidArgument, "box_mesh: the box has a non-finite value or a negative half extent");
+    throw Error(ErrorCode::InvalidArgument,
+                "box_mesh: the box has a non-finite value or a negative half extent");
   }
   const auto first = static_cast<std::uint32_t>(m.vertices.size());
   const Eigen::Vector3d& h = box.half_extents;

@@ -36,9 +36,12 @@ void check_device(RTCDevice device, const char* what) {
 
 RTCBuildQuality embree_quality(BuildQuality q) {
   switch (q) {
-    case BuildQuality::Low: return RTC_BUILD_QUALITY_LOW;
-    case BuildQuality::Medium: return RTC_BUILD_QUALITY_MEDIUM;
-    case BuildQuality::High: break;
+    case BuildQuality::Low:
+      return RTC_BUILD_QUALITY_LOW;
+    case BuildQuality::Medium:
+      return RTC_BUILD_QUALITY_MEDIUM;
+    case BuildQuality::High:
+      break;
   }
   return RTC_BUILD_QUALITY_HIGH;
 }
@@ -71,7 +74,8 @@ bool segment_ray(const Segment& s, Eigen::Vector3f& origin, Eigen::Vector3f& dir
 bool segment_in_range(const Segment& s) {
   // Written so that NaN fails every comparison and lands out of range.
   for (int i = 0; i < 3; ++i) {
-    if (!(std::abs(s.p[i]) <= kMaxSceneCoordinate) || !(std::abs(s.q[i]) <= kMaxSceneCoordinate)) return false;
+    if (!(std::abs(s.p[i]) <= kMaxSceneCoordinate) || !(std::abs(s.q[i]) <= kMaxSceneCoordinate))
+      return false;
   }
   return true;
 }
@@ -145,9 +149,10 @@ TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const
   return hit;
 }
 
-void TriangleScene::intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions,
-                                    float t_near, float t_far, std::span<float> t_out,
-                                    std::span<std::uint8_t> label_out, RayBatchMode mode) const {
+void TriangleScene::intersect_batch(const Eigen::Vector3f& origin,
+                                    std::span<const Eigen::Vector3f> directions, float t_near, float t_far,
+                                    std::span<float> t_out, std::span<std::uint8_t> label_out,
+                                    RayBatchMode mode) const {
   constexpr float kMiss = std::numeric_limits<float>::infinity();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -290,7 +295,8 @@ void TriangleScene::segments_blocked(std::span<const Segment> segments, std::spa
     const bool finite = s.p.allFinite() && s.q.allFinite();
     throw Error(finite ? ErrorCode::OutOfRange : ErrorCode::InvalidArgument,
                 "TriangleScene::segments_blocked: segment " + std::to_string(bad) +
-                    (finite ? " has a coordinate beyond " + std::to_string(static_cast<int>(kMaxSceneCoordinate)) + " m"
+                    (finite ? " has a coordinate beyond " +
+                                  std::to_string(static_cast<int>(kMaxSceneCoordinate)) + " m"
                             : " has a non-finite endpoint"));
   }
 }

@@ -46,12 +46,13 @@ class TriangleScene {
   };
 
   // First surface along origin + t * direction with t in [t_near, t_far].
-  Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) const;
+  Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
+                float t_far) const;
 
   // A batch of rays from one origin: t_out[i] is the hit distance (infinity on
   // a miss), label_out[i] its class. Allocates nothing.
-  void intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions, float t_near,
-                       float t_far, std::span<float> t_out, std::span<std::uint8_t> label_out,
+  void intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions,
+                       float t_near, float t_far, std::span<float> t_out, std::span<std::uint8_t> label_out,
                        RayBatchMode mode = RayBatchMode::Single) const;
 
   // blocked[i] = 1 when segments[i] meets a triangle, else 0; TBB-parallel

@@ -10,7 +10,8 @@ double ground_height(const geometry::TriangleScene& scene, double x, double y, d
   float t_near = 0;
   // Steps past walls and obstacles until it meets terrain or a ramp.
   for (int step = 0; step < 64; ++step) {
-    const geometry::TriangleScene::Hit h = scene.intersect(origin, down, t_near, std::numeric_limits<float>::infinity());
+    const geometry::TriangleScene::Hit h =
+        scene.intersect(origin, down, t_near, std::numeric_limits<float>::infinity());
     if (!h.hit) return 0;
     if (h.label == ClassId::Terrain || h.label == ClassId::InclinedRamp || h.label == ClassId::FlatRamp) {
       return z_top - h.t;

@@ -17,8 +17,9 @@ namespace {
 OrientedBox tilted_box() {
   OrientedBox b;
   b.center = {1, -2, 0.5};
-  b.axes = (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()))
-               .toRotationMatrix();
+  b.axes =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   b.half_extents = {1.5, 0.05, 0.6};
   return b;
 }

@@ -29,7 +29,9 @@ Eigen::Vector3d at(double x, double y, double z) {
   const OrientedBox b = cube();
   return b.center + b.axes * Eigen::Vector3d(x, y, z);
 }
-Eigen::Vector3d aligned_at(double x, double y, double z) { return aligned_cube().center + Eigen::Vector3d(x, y, z); }
+Eigen::Vector3d aligned_at(double x, double y, double z) {
+  return aligned_cube().center + Eigen::Vector3d(x, y, z);
+}
 
 Segment seg(const Eigen::Vector3d& p, const Eigen::Vector3d& q) { return {p, q}; }
 
@@ -90,7 +92,8 @@ TEST(SegmentBox, SignedDistancesOfSegments) {
   // Cuts a corner: deepest at x = y = 0.9, 0.1 inside both faces.
   EXPECT_NEAR(segment_box_signed_distance(seg(at(0.8, 1.0, 0), at(1.0, 0.8, 0)), b), -0.1, 1e-12);
   // Misses that corner along x + y = 2.7: nearest at (1.35, 1.35, 0).
-  EXPECT_NEAR(segment_box_signed_distance(seg(at(-0.3, 3, 0), at(3, -0.3, 0)), b), 0.35 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(segment_box_signed_distance(seg(at(-0.3, 3, 0), at(3, -0.3, 0)), b), 0.35 * std::sqrt(2.0),
+              1e-12);
 }
 
 TEST(SegmentBox, NearSurfaceFlagsTheAmbiguousCases) {

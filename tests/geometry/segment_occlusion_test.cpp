@@ -99,7 +99,9 @@ std::vector<OrientedBox> random_boxes(std::mt19937_64& rng) {
   for (int i = 0; i < 30; ++i) {
     OrientedBox b;
     b.center = {20 * u(rng), 20 * u(rng), 2 * u(rng)};
-    b.axes = Eigen::Quaterniond(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized().toRotationMatrix();
+    b.axes = Eigen::Quaterniond(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)
+                 .normalized()
+                 .toRotationMatrix();
     b.half_extents = {0.05 + 0.7 * u(rng), 0.05 + 0.7 * u(rng), 0.05 + 0.7 * u(rng)};
     boxes.push_back(b);
   }
@@ -144,9 +146,9 @@ RandomSet random_segments(std::mt19937_64& rng, const std::vector<OrientedBox>& 
       set.segments.push_back({c - 0.5 * along, c + 0.5 * along});
     } else {
       inside *= 0.9;
-      Eigen::Vector3d other = 0.9 * Eigen::Vector3d(b.half_extents.x() * (2 * u(rng) - 1),
-                                                    b.half_extents.y() * (2 * u(rng) - 1),
-                                                    b.half_extents.z() * (2 * u(rng) - 1));
+      Eigen::Vector3d other =
+          0.9 * Eigen::Vector3d(b.half_extents.x() * (2 * u(rng) - 1), b.half_extents.y() * (2 * u(rng) - 1),
+                                b.half_extents.z() * (2 * u(rng) - 1));
       set.segments.push_back({b.center + b.axes * inside, b.center + b.axes * other});
     }
   }
@@ -178,10 +180,11 @@ TEST(SegmentOcclusion, RandomBoxesMatchTheExactReferenceOutsideTheTolerance) {
     random_excluded += e.excluded[i];
     random_blocked += e.blocked[i];
   }
-  std::printf("%zu random segments: %zu blocked, %zu excluded (within %g m of a surface); %zu made hard: %zu "
-              "excluded, %zu inside a box only\n",
-              set.random_count, random_blocked, random_excluded, kSurfaceTolerance,
-              set.segments.size() - set.random_count, e.excluded_count - random_excluded, e.inside_only);
+  std::printf(
+      "%zu random segments: %zu blocked, %zu excluded (within %g m of a surface); %zu made hard: %zu "
+      "excluded, %zu inside a box only\n",
+      set.random_count, random_blocked, random_excluded, kSurfaceTolerance,
+      set.segments.size() - set.random_count, e.excluded_count - random_excluded, e.inside_only);
   // Random edges rarely come within 0.1 mm of a surface; the made-up hard
   // ones mostly do (ending on a face, grazing one), which shows the band
   // is applied; the segments inside a box are seen by the solid reference only.
@@ -232,7 +235,8 @@ TEST(SegmentOcclusion, DoorwaysWallsFacesAndEndpoints) {
       {"through the other wall", {{3, -1, 0.1}, {2.5, 1, 0.5}}, true},
       {"over the walls", {{0, -1, 1.3}, {0, 1, 1.3}}, false},
       {"along a wall 1 mm from its face", {{-2, face + 1e-3, 0.3}, {5, face + 1e-3, 0.3}}, false},
-      {"along a wall twice the tolerance from its face", {{-2, -face - 2 * tol, 0.3}, {5, -face - 2 * tol, 0.3}},
+      {"along a wall twice the tolerance from its face",
+       {{-2, -face - 2 * tol, 0.3}, {5, -face - 2 * tol, 0.3}},
        false},
       {"ending inside a wall", {{0, -1, 0.3}, {0, 0.01, 0.3}}, true},
       {"starting inside a wall", {{4, 0.02, 0.4}, {4.5, 1, 0.4}}, true},
@@ -337,7 +341,8 @@ TEST(SegmentOcclusion, EmptyBatchAndEmptyScene) {
   scene.segments_blocked({}, none);
   const TriangleScene empty(std::vector<ClassedMesh>{});
   const std::vector<Segment> segments(3, Segment{{0, -1, 0.3}, {0, 1, 0.3}});
-  for (RayBatchMode mode : kModes) EXPECT_EQ(blocked_by(empty, segments, mode), std::vector<std::uint8_t>(3, 0));
+  for (RayBatchMode mode : kModes)
+    EXPECT_EQ(blocked_by(empty, segments, mode), std::vector<std::uint8_t>(3, 0));
 }
 
 }  // namespace
