@@ -24,10 +24,11 @@ enum class RayBatchMode { Single, Packet16 };
 // Embree's BVH build quality. High suits a scene built once and traced
 // millions of times (the simulator's). Low (a Morton build) suits a scene
 // rebuilt for each batch of queries, as the topological map's wall scene: on
-// 1k walls merged into one mesh it builds 2.6x faster than Medium or High and
-// answers 10k segments within 5% as fast (bench/geometry).
+// 1k walls merged into one mesh it builds 2.5-3x faster than Medium or High
+// and answers 10k segments as fast (bench/geometry).
 enum class BuildQuality { Low, Medium, High };
 
+// Every query is const and thread-safe: many threads may trace one scene.
 class TriangleScene {
  public:
   // Builds the scene; empty meshes are skipped. Throws sarmap::Error
@@ -56,15 +57,16 @@ class TriangleScene {
                        RayBatchMode mode = RayBatchMode::Single) const;
 
   // blocked[i] = 1 when segments[i] meets a triangle, else 0; TBB-parallel
-  // over the batch, allocation-free. A surface test: a segment lying wholly
+  // over the batch, nothing allocated per segment. A surface test: a segment lying wholly
   // inside a closed mesh, and a zero-length segment, are not blocked. Agrees
   // with the exact reference except near a surface (kSurfaceTolerance). The
   // answers do not depend on the thread count. Throws sarmap::Error
   // (InvalidArgument) when the spans differ in size, and, naming the lowest
   // such index, for an endpoint that is not finite (InvalidArgument) or
   // beyond kMaxSceneCoordinate (OutOfRange); `blocked` is then unspecified.
-  // Packets of 16 are the default: on random edges they answered 2-45 %
-  // faster than single rays at every size measured (bench/geometry).
+  // Packets of 16 are the default: on random edges they answered 0-45 %
+  // faster than single rays, never slower, at every size measured
+  // (bench/geometry).
   void segments_blocked(std::span<const Segment> segments, std::span<std::uint8_t> blocked,
                         RayBatchMode mode = RayBatchMode::Packet16) const;
 
