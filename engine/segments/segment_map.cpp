@@ -17,6 +17,7 @@
 #include "engine/segments/plane_rectangle.hpp"
 #include "engine/segments/plane_regions.hpp"
 #include "engine/segments/segment_merge.hpp"
+#include "engine/segments/walkable.hpp"
 
 namespace sarmap::segments {
 
@@ -83,11 +84,6 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 std::int64_t cell_of(double v) { return static_cast<std::int64_t>(std::floor(v / kIndexCell)); }
 
-bool walkable(const Segment& s) {
-  return (s.label == ClassId::Terrain || s.label == ClassId::FlatRamp || s.label == ClassId::InclinedRamp) &&
-         s.plane.normal.z() >= kLevelNormalZ;
-}
-
 Eigen::Vector3d oriented_normal(Eigen::Vector3d n, const Eigen::Vector3d& view_sum) {
   if (std::abs(n.z()) >= kLevelNormalZ) return n.z() < 0 ? Eigen::Vector3d(-n) : n;
   const double facing = n.dot(view_sum);
@@ -131,6 +127,9 @@ SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vect
   const double max_range = settings_.max_range;
   const auto labels = points.labels();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    // Neighbouring pixels often share a voxel: one look-up serves the run.
+    std::uint64_t last_key = ~std::uint64_t{0};
+    std::uint32_t last_found = FlatKeyIndex::kAbsent;
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
       const auto label = class_from_value(labels[i]);
       if (!label || *label == ClassId::Unknown) continue;
@@ -152,7 +151,12 @@ SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vect
       }
       keys[i] = *key;
       verdict[i] = kLookedUp;
-      if (const auto stored = voxels_.find(*key)) found[i] = *stored;
+      if (*key != last_key) {
+        last_key = *key;
+        const auto stored = voxels_.find(*key);
+        last_found = stored ? *stored : FlatKeyIndex::kAbsent;
+      }
+      found[i] = last_found;
     }
   });
   for (std::size_t i = 0; i < n; ++i) {
@@ -644,20 +648,7 @@ std::vector<const Segment*> SegmentMap::in_box(const Bounds& box) const {
 }
 
 const Segment* SegmentMap::under(const Eigen::Vector3d& p, double max_drop) const {
-  const Segment* best = nullptr;
-  double best_z = -std::numeric_limits<double>::infinity();
-  for (const Record& r : records_) {
-    if (!r.alive || !walkable(r.view)) continue;
-    const Plane& plane = r.view.plane;
-    const double z = -(plane.normal.x() * p.x() + plane.normal.y() * p.y() + plane.offset) / plane.normal.z();
-    if (z > p.z() + settings_.distance_threshold || p.z() - z > max_drop) continue;
-    if (!r.view.covers({p.x(), p.y(), z}, 0)) continue;
-    if (z > best_z) {
-      best_z = z;
-      best = &r.view;
-    }
-  }
-  return best;
+  return segment_under(segments(), p, max_drop, settings_.distance_threshold);
 }
 
 std::vector<Eigen::Vector3f> SegmentMap::member_points(std::uint32_t id) const {
