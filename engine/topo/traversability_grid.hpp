@@ -1,0 +1,43 @@
+// The 2-D traversability grid projected from the metric map, as paper 001
+// projects its semantic map onto a plane: in each column of voxels the
+// walkable surface (the highest terrain or ramp voxel with the robot's height
+// of space above it); columns of walls and obstacles, and the rims of drops
+// (a platform's edge, a ramp's side), blocked; blocked cells grown by the
+// robot's radius. The wavefront planner plans on it; grid.pgm shows it.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/classes.hpp"
+#include "engine/topo/voxel_columns.hpp"
+#include "engine/topo/planning_grid.hpp"
+#include "engine/topo/topo_settings.hpp"
+
+namespace sarmap::topo {
+
+struct TraversabilityGrid {
+  // Free: drivable; Occupied: wall, obstacle, drop rim or within the robot's
+  // radius of one; Unknown: no voxel seen in the column. Cells are the map's
+  // voxel columns.
+  PlanningGrid grid;
+  // Per cell (row-major as the grid), the walkable surface's height (the top
+  // voxel's centre), before any blocking; NaN where there is none.
+  std::vector<float> ground;
+  // Per cell, the class of that surface (Unknown where there is none).
+  std::vector<ClassId> ground_class;
+  // Per cell, 1 within the robot's radius of a drop's rim: a drive through
+  // such a cell would put a track over the edge.
+  std::vector<std::uint8_t> near_drop;
+
+  float ground_at(GridCell cell) const {
+    return grid.contains(cell) ? ground[grid.index_of(cell)] : std::nanf("");
+  }
+};
+
+// Cells are the columns' extent; no occupied voxel gives a 1 x 1 unknown grid
+// at the origin.
+TraversabilityGrid traversability_grid(const VoxelColumns& columns, const TopoSettings& settings);
+
+}  // namespace sarmap::topo

@@ -1,0 +1,61 @@
+// The walls an edge of the topological map must not pass through, in one
+// Embree scene: every wall segment as a box around its rectangle, plus the
+// occupied voxels of class wall or other (one box per vertical run in a
+// column), all grown by the robot's radius. An edge is tested as occluded
+// rays between its two stand points at each of the robot's body heights, in
+// parallel batches. (The sides of platforms and ramps are not walls here:
+// low at a ramp's foot, they are drops, which the ground profile finds.)
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "engine/geometry/oriented_box.hpp"
+#include "engine/geometry/triangle_scene.hpp"
+#include "engine/topo/voxel_columns.hpp"
+#include "engine/segments/segment.hpp"
+#include "engine/topo/topo_settings.hpp"
+
+namespace sarmap::topo {
+
+// A straight drive between two stand points on the ground.
+struct StandPair {
+  Eigen::Vector3d from, to;
+};
+
+class WallScene {
+ public:
+  // `columns` may be null (no voxels), and voxels are used only when
+  // settings.obstacle_voxels is set. Throws sarmap::Error for bad settings.
+  WallScene(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
+            const TopoSettings& settings);
+  ~WallScene();
+
+  // Whether a robot standing here is clear of every (grown) box at each body
+  // height, by more than the scene's float tolerance: a place on a box's
+  // surface would have every drive from it blocked.
+  bool clear(const Eigen::Vector3d& stand) const;
+
+  // blocked[i] = 1 when the drive pairs[i] meets a wall at any body height.
+  // Deterministic on any thread count; allocation proportional to the batch.
+  void blocked(std::span<const StandPair> pairs, std::span<std::uint8_t> blocked) const;
+
+  // The grown boxes in the scene (segments first, then voxel runs).
+  const std::vector<geometry::OrientedBox>& boxes() const { return boxes_; }
+  std::size_t segment_boxes() const { return segment_boxes_; }
+
+ private:
+  TopoSettings settings_;
+  std::vector<geometry::OrientedBox> boxes_;
+  std::size_t segment_boxes_ = 0;
+  std::unique_ptr<geometry::TriangleScene> scene_;
+  // Boxes by the cells (kBoxCell metres) their bounding boxes touch, for clear().
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
+}  // namespace sarmap::topo
