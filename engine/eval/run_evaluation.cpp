@@ -9,6 +9,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/ply.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/segments/segment_files.hpp"
 #include "engine/sim/ground_truth_grid.hpp"
 
 namespace sarmap::eval {
@@ -18,6 +19,7 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kPointsFile = "semantic_points.ply";
 constexpr const char* kMapFile = "map.sarmap";
+constexpr const char* kSegmentsFile = "segments.json";
 constexpr const char* kGraphFile = "graph.json";
 
 Json optional_number(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
@@ -58,25 +60,46 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   RunEvaluation e;
   e.arena_name = arena.name;
   e.run_dir = run_dir;
-  for (const char* name : {kPointsFile, kMapFile, kGraphFile}) {
+  for (const char* name : {kPointsFile, kMapFile, kSegmentsFile, kGraphFile}) {
     e.files.push_back({name, std::filesystem::is_regular_file(run_dir / name, ec)});
   }
-  if (e.files[0].present) {
+  const auto present = [&e](const char* name) {
+    for (const RunFile& f : e.files) {
+      if (f.name == name) return f.present;
+    }
+    return false;
+  };
+  if (present(kPointsFile)) {
     const std::filesystem::path path = run_dir / kPointsFile;
     e.points = evaluate_points(read_ply(path), path.string());
   } else {
     e.notes.push_back(std::string(kPointsFile) + " absent: no per-point figures");
   }
-  if (e.files[1].present) {
+  // One voxelisation (its visibility rays are most of eval's time) serves
+  // the voxel and the segment figures.
+  std::optional<sim::GroundTruthGrid> truth;
+  const auto truth_at = [&](double resolution) -> const sim::GroundTruthGrid& {
+    if (!truth) {
+      sim::GroundTruthOptions truth_options;
+      truth_options.resolution = resolution;
+      truth = sim::voxelize_arena(arena, truth_options);
+    }
+    return *truth;
+  };
+  if (present(kMapFile)) {
     const metric::MetricMap map = metric::load_map(run_dir / kMapFile);
-    sim::GroundTruthOptions truth_options;
-    truth_options.resolution = map.resolution();
-    e.voxels = score_voxels(map, sim::voxelize_arena(arena, truth_options));
+    e.voxels = score_voxels(map, truth_at(map.resolution()));
     note_partial_run(arena, run_dir, e.notes);
   } else {
     e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
   }
-  if (!e.files[2].present) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
+  if (present(kSegmentsFile)) {
+    const segments::SegmentsFile file = segments::read_segments_json(run_dir / kSegmentsFile);
+    e.segments = score_segments(arena, truth_at(kSegmentTruthResolution), file.segments);
+  } else {
+    e.notes.push_back(std::string(kSegmentsFile) + " absent: no segment figures");
+  }
+  if (!present(kGraphFile)) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
   return e;
 }
 
@@ -115,6 +138,7 @@ std::string format_json(const RunEvaluation& e) {
     j["confusion"] = {{"classes", classes}, {"rows", "ground truth"}, {"columns", "prediction"}, {"matrix", matrix}};
   }
   if (e.voxels) add_voxel_scores_json(*e.voxels, j);
+  if (e.segments) add_segment_scores_json(*e.segments, j);
   j["notes"] = e.notes;
   return j.dump(2) + "\n";
 }
@@ -156,6 +180,7 @@ std::string format_table(const RunEvaluation& e) {
     }
   }
   if (e.voxels) out << "\n" << format_voxel_scores(*e.voxels);
+  if (e.segments) out << "\n" << format_segment_scores(*e.segments);
   if (!e.notes.empty()) {
     out << "\n";
     for (const std::string& n : e.notes) out << "note: " << n << "\n";

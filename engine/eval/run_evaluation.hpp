@@ -10,13 +10,14 @@
 #include <vector>
 
 #include "engine/eval/point_evaluation.hpp"
+#include "engine/eval/segment_scores.hpp"
 #include "engine/eval/voxel_scores.hpp"
 #include "engine/sim/arena.hpp"
 
 namespace sarmap::eval {
 
 struct RunFile {
-  std::string name;  // "semantic_points.ply", "map.sarmap", "graph.json"
+  std::string name;  // "semantic_points.ply", "map.sarmap", "segments.json", "graph.json"
   bool present = false;
 };
 
@@ -26,8 +27,14 @@ struct RunEvaluation {
   std::vector<RunFile> files;
   std::optional<PointEvaluation> points;  // from semantic_points.ply
   std::optional<VoxelScores> voxels;      // map.sarmap against the arena voxelised at its resolution
+  // segments.json against the arena's faces, seen as the same voxelisation
+  // says (at the map's resolution, or kSegmentTruthResolution without a map).
+  std::optional<SegmentScores> segments;
   std::vector<std::string> notes;          // what was not scored, and why
 };
+
+// Resolution of the voxels that say which faces were seen when the run has no map.
+inline constexpr double kSegmentTruthResolution = 0.05;
 
 // Throws sarmap::Error(Io) when run_dir is not a folder.
 RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir);

@@ -80,7 +80,7 @@ TEST_F(RunFolder, ScoresSemanticPointsAndNamesAbsentFiles) {
   EXPECT_EQ(e.arena_name, "esogu-6x4");
   ASSERT_TRUE(e.points.has_value());
   EXPECT_EQ(e.points->scored, 5u);
-  ASSERT_EQ(e.files.size(), 3u);
+  ASSERT_EQ(e.files.size(), 4u);
   EXPECT_TRUE(e.files[0].present);
   EXPECT_FALSE(e.files[1].present);
   const auto j = nlohmann::json::parse(format_json(e));
@@ -90,7 +90,8 @@ TEST_F(RunFolder, ScoresSemanticPointsAndNamesAbsentFiles) {
   EXPECT_TRUE(j.at("per_class_iou").at("other").is_null());
   EXPECT_EQ(j.at("confusion").at("matrix")[2][0].get<int>(), 1);  // wall taken for unknown
   EXPECT_EQ(j.at("points_unlabelled").get<int>(), 1);
-  EXPECT_EQ(j.at("absent"), nlohmann::json({"map.sarmap", "graph.json"}));
+  EXPECT_EQ(j.at("absent"), nlohmann::json({"map.sarmap", "segments.json", "graph.json"}));
+  EXPECT_FALSE(j.contains("segments"));
   const std::string table = format_table(e);
   EXPECT_NE(table.find("accuracy  60.00%"), std::string::npos) << table;
   EXPECT_NE(table.find("map.sarmap: absent"), std::string::npos) << table;
@@ -99,10 +100,11 @@ TEST_F(RunFolder, ScoresSemanticPointsAndNamesAbsentFiles) {
 TEST_F(RunFolder, EmptyRunReportsWhatIsMissing) {
   const RunEvaluation e = evaluate_run(arena_, dir_);
   EXPECT_FALSE(e.points.has_value());
-  EXPECT_EQ(e.notes.size(), 3u);
+  EXPECT_EQ(e.notes.size(), 4u);
+  EXPECT_EQ(e.notes[2], "segments.json absent: no segment figures");
   const auto j = nlohmann::json::parse(format_json(e));
   EXPECT_FALSE(j.contains("accuracy"));
-  EXPECT_EQ(j.at("absent").size(), 3u);
+  EXPECT_EQ(j.at("absent").size(), 4u);
   EXPECT_THROW(evaluate_run(arena_, dir_ / "missing"), Error);
 }
 

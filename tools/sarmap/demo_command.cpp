@@ -124,6 +124,9 @@ void run_demo(const DemoArgs& a) {
                 percent(evaluation.points->confusion.mean_iou()).c_str(), evaluation.points->scored,
                 run.classifier.c_str());
   }
+  if (evaluation.segments) {
+    std::printf("segments  %s\n", eval::segment_scores_summary(*evaluation.segments).c_str());
+  }
   std::printf("eval      %.1f s; figures in %s (sarmap eval --json)\n", eval_s,
               (out / "eval.json").string().c_str());
   std::printf(
