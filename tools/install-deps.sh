@@ -15,6 +15,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
   # tests only: Boost Graph Library's Kruskal, compared against in tests/topo
   libboost-graph-dev
+  # tests only: graph.json must load in networkx (tests/cli/plan_command_test.cpp)
+  python3-networkx
 )
 
 # Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by

@@ -28,7 +28,8 @@ Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
       map_(map_settings(config)),
       integrator_(integrator_settings(config, sensor)),
       classifier_(make_point_classifier(config.classifier)),
-      segments_(config.segments) {
+      segments_(config.segments),
+      topo_(config.topo) {
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
   }
@@ -99,6 +100,17 @@ void Mapper::integrate(Scan& scan) {
     profile_.add_count("segment", "created", static_cast<double>(u.created));
     profile_.add_count("segment", "merged", static_cast<double>(u.merged));
     profile_.add_count("segment", "removed", static_cast<double>(u.removed));
+  }
+  {
+    const auto timer = profile_.time("topo");
+    const topo::TopoUpdate u = topo_.update(segments_, map_);
+    profile_.add_count("topo", "nodes_added", static_cast<double>(u.nodes_added));
+    profile_.add_count("topo", "nodes_retired", static_cast<double>(u.nodes_retired));
+    profile_.add_count("topo", "candidates", static_cast<double>(u.candidates));
+    profile_.add_count("topo", "rejected_wall", static_cast<double>(u.rejected_wall));
+    profile_.add_count("topo", "rejected_drop", static_cast<double>(u.rejected_drop));
+    profile_.add_count("topo", "rejected_steep", static_cast<double>(u.rejected_steep));
+    profile_.add_count("topo", "rejected_unknown", static_cast<double>(u.rejected_unknown));
   }
   keep_semantic_points(scan.points);
 }

@@ -1,6 +1,6 @@
 // The pipeline: the only place that knows every stage. A Mapper owns the maps
 // and runs the stages on each scan in order (preprocess, classify, metric,
-// segment), timing each into a StageProfile.
+// segment, topo), timing each into a StageProfile.
 #pragma once
 
 #include <cstddef>
@@ -17,6 +17,7 @@
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/pipeline/point_classifier.hpp"
 #include "engine/segments/segment_map.hpp"
+#include "engine/topo/topo_map.hpp"
 
 namespace sarmap::pipeline {
 
@@ -36,6 +37,8 @@ struct MapperConfig {
   double semantic_points_voxel = 0.05;
   // Planar segments of the classified points (segment stage).
   segments::SegmentSettings segments;
+  // The topological map and its planners (topo stage).
+  topo::TopoSettings topo;
 };
 
 class Mapper {
@@ -58,6 +61,7 @@ class Mapper {
   std::size_t blocks_dropped() const { return blocks_dropped_; }
   const PointClassifier& classifier() const { return *classifier_; }
   const segments::SegmentMap& segment_map() const { return segments_; }
+  const topo::TopoMap& topo_map() const { return topo_; }
   // Classified points kept so far: label = prediction, its per-class scores
   // when the classifier gives them, gt_label = the input's label when it had one.
   const PointBuffer& semantic_points() const { return semantic_points_; }
@@ -74,6 +78,7 @@ class Mapper {
   std::size_t blocks_dropped_ = 0;
   std::unique_ptr<PointClassifier> classifier_;
   segments::SegmentMap segments_;
+  topo::TopoMap topo_;
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;

@@ -51,8 +51,8 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_TRUE(fs::exists(out_ / "sequence" / "sequence.json"));
   EXPECT_TRUE(fs::exists(out_ / "sequence.stamp"));
   for (const char* f :
-       {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json", "segments.ply", "manifest.json",
-        "profile.json"}) {
+       {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json", "segments.ply", "graph.json",
+        "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml", "manifest.json", "profile.json"}) {
     EXPECT_TRUE(fs::exists(out_ / "run" / f)) << f;
   }
   const auto eval = nlohmann::json::parse(test::read_all(out_ / "eval.json"));

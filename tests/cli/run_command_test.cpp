@@ -84,7 +84,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
     }
     EXPECT_LE(stage.at("p50_s").get<double>(), stage.at("max_s").get<double>()) << name;
   }
-  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "classify", "metric", "segment"}));
+  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "classify", "metric", "segment", "topo"}));
   const auto& pre = profile.at("stages").at("preprocess");
   EXPECT_EQ(pre.at("points_in").get<double>(), 5.0);
   EXPECT_EQ(pre.at("points_out").get<double>(), 5.0);
@@ -100,12 +100,16 @@ TEST_F(RunCommand, WritesEveryOutput) {
   ASSERT_EQ(profile.at("per_scan").size(), 2u);
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
-  EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s"}));
+  EXPECT_EQ(row,
+            (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s"}));
   const auto& segment = profile.at("stages").at("segment");
   for (const char* key : {"points_in", "planes_found", "created", "merged"}) EXPECT_TRUE(segment.contains(key)) << key;
   // Five points are too few for a plane: the files exist and hold no segment.
   EXPECT_EQ(json_of(out / "segments.json").at("segments").size(), 0u);
   EXPECT_TRUE(fs::exists(out / "segments.ply"));
+  // No segment, no node: an empty graph in each format, and a grid of what was seen.
+  EXPECT_EQ(json_of(out / "graph.json").at("nodes").size(), 0u);
+  for (const char* f : {"graph.graphml", "graph.ply", "grid.pgm", "grid.yaml"}) EXPECT_TRUE(fs::exists(out / f)) << f;
 }
 
 TEST_F(RunCommand, MissingInputIsAnError) {

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   sarmap::cli::add_run_command(app);
   sarmap::cli::add_demo_command(app);
   sarmap::cli::add_classify_command(app);
+  sarmap::cli::add_plan_command(app);
 
   try {
     app.parse(argc, argv);

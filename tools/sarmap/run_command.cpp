@@ -20,6 +20,8 @@
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/segments/segment_files.hpp"
+#include "engine/topo/graph_files.hpp"
+#include "engine/topo/ros_map_files.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
@@ -87,6 +89,11 @@ RunSummary run_pipeline(const RunOptions& o) {
   write_point_cloud(o.out / "semantic_points.ply", mapper.semantic_points());
   segments::write_segments_json(o.out / "segments.json", mapper.segment_map());
   segments::write_segments_ply(o.out / "segments.ply", mapper.segment_map());
+  const topo::TopoMap& topo = mapper.topo_map();
+  topo::write_graph_json(o.out / "graph.json", topo);
+  topo::write_graph_graphml(o.out / "graph.graphml", topo);
+  topo::write_graph_ply(o.out / "graph.ply", topo);
+  topo::write_ros_map(topo.grid().grid, o.out, "grid");
 
   nlohmann::ordered_json manifest;
   manifest["sarmap_version"] = kVersion;
@@ -111,8 +118,9 @@ RunSummary run_pipeline(const RunOptions& o) {
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
                                                ? "bayesian"
                                                : "histogram"}});
-  manifest["outputs"] = {"map.sarmap",    "map.bt",       "voxels.ply",  "semantic_points.ply",
-                         "segments.json", "segments.ply", "profile.json"};
+  manifest["outputs"] = {"map.sarmap",    "map.bt",       "voxels.ply",    "semantic_points.ply",
+                         "segments.json", "segments.ply", "graph.json",    "graph.graphml",
+                         "graph.ply",     "grid.pgm",     "grid.yaml",     "profile.json"};
   {
     AtomicFileWriter w(o.out / "manifest.json");
     w.write(manifest.dump(2) + "\n");
@@ -134,10 +142,14 @@ RunSummary run_pipeline(const RunOptions& o) {
     std::printf("%zu scans, %zu points (%zu rejected) -> %zu occupied, %zu free voxels at %.3f m in %.2f s\n",
                 scans, summary.stats.points_in, summary.stats.points_rejected, summary.counts.occupied,
                 summary.counts.free, o.voxel, summary.wall_s);
-    std::printf("%zu segments\n", mapper.segment_map().size());
+    std::size_t nodes = 0, tree = 0;
+    for (const topo::TopoNode& n : topo.nodes()) nodes += n.alive;
+    for (const topo::TopoEdge& e : topo.edges()) tree += e.in_tree;
+    std::printf("%zu segments; topological map: %zu nodes, %zu roadmap edges, %zu tree edges\n",
+                mapper.segment_map().size(), nodes, topo.edges().size(), tree);
     std::printf(
-        "wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, manifest.json, "
-        "profile.json to %s\n",
+        "wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
+        "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json to %s\n",
         o.out.string().c_str());
   }
   return summary;

@@ -1,0 +1,107 @@
+// `sarmap plan RUNDIR --from x,y,z --to x,y,z [--graph tree|roadmap|grid]
+// [--algorithm dijkstra|astar] [--out path.json]`: a path on the maps a run
+// wrote (graph.json on segments.json and map.sarmap). No path is an answer
+// (exit 0, found: false, with the reason), not an error.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/core/error.hpp"
+#include "engine/metric/map_file.hpp"
+#include "engine/segments/segment_files.hpp"
+#include "engine/topo/graph_files.hpp"
+#include "engine/topo/route_planner.hpp"
+#include "tools/sarmap/commands.hpp"
+
+namespace sarmap::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PlanArgs {
+  std::string run;
+  std::string from, to;
+  std::string graph = "tree";
+  std::string algorithm = "dijkstra";
+  std::string out;
+  bool quiet = false;
+};
+
+Eigen::Vector3d parse_point(const std::string& text, const char* option) {
+  Eigen::Vector3d p;
+  std::size_t start = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::size_t comma = text.find(',', start);
+    const std::string part = text.substr(start, axis < 2 ? comma - start : std::string::npos);
+    if ((axis < 2 && comma == std::string::npos) || part.empty()) {
+      throw Error(ErrorCode::InvalidArgument, std::string("plan: ") + option + " must be x,y,z, got '" + text + "'");
+    }
+    std::size_t used = 0;
+    try {
+      p[axis] = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != part.size() || !std::isfinite(p[axis])) {
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("plan: ") + option + " must be three finite numbers x,y,z, got '" + text + "'");
+    }
+    start = comma + 1;
+  }
+  return p;
+}
+
+void run_plan(const PlanArgs& a) {
+  const auto graph = topo::route_graph_from(a.graph);
+  if (!graph) throw Error(ErrorCode::InvalidArgument, "plan: --graph must be tree, roadmap or grid");
+  const auto search = topo::route_search_from(a.algorithm);
+  if (!search) throw Error(ErrorCode::InvalidArgument, "plan: --algorithm must be dijkstra or astar");
+  const Eigen::Vector3d from = parse_point(a.from, "--from");
+  const Eigen::Vector3d to = parse_point(a.to, "--to");
+  const fs::path run = a.run;
+  for (const char* name : {"graph.json", "segments.json", "map.sarmap"}) {
+    if (!fs::is_regular_file(run / name)) {
+      throw Error(ErrorCode::Io, (run / name).string() + " not found (plan needs a folder written by sarmap run)");
+    }
+  }
+  topo::GraphFile graph_file = topo::read_graph_json(run / "graph.json");
+  const segments::SegmentsFile segments_file = segments::read_segments_json(run / "segments.json");
+  std::vector<const segments::Segment*> segments;
+  for (const segments::Segment& s : segments_file.segments) segments.push_back(&s);
+  const metric::MetricMap map = metric::load_map(run / "map.sarmap");
+  const topo::TopoMap topo = topo::TopoMap::restore(graph_file.settings, std::move(graph_file.nodes),
+                                                    std::move(graph_file.edges), segments, map);
+  const topo::Route route = topo::plan_route(topo, from, to, *graph, *search);
+  if (!a.out.empty()) topo::write_route_json(a.out, route);
+  if (a.quiet) return;
+  if (!route.found) {
+    std::printf("no path on the %s: %s\n", std::string(topo::to_string(route.graph)).c_str(), route.reason.c_str());
+    return;
+  }
+  std::printf("path on the %s (%s): %.3f m, %zu points%s\n", std::string(topo::to_string(route.graph)).c_str(),
+              route.graph == topo::RouteGraph::Grid ? "wavefront" : std::string(topo::to_string(route.search)).c_str(),
+              route.length, route.points.size(),
+              route.nodes.empty() ? "" : (", " + std::to_string(route.nodes.size()) + " nodes").c_str());
+  for (const Eigen::Vector3d& p : route.points) std::printf("  %.3f %.3f %.3f\n", p.x(), p.y(), p.z());
+}
+
+}  // namespace
+
+void add_plan_command(CLI::App& app) {
+  auto args = std::make_shared<PlanArgs>();
+  CLI::App* cmd = app.add_subcommand("plan", "Plan a path on the maps a run wrote");
+  cmd->add_option("RUNDIR", args->run, "Folder written by `sarmap run`")->required();
+  cmd->add_option("--from", args->from, "Start x,y,z (metres; taken down to the ground under it)")->required();
+  cmd->add_option("--to", args->to, "Goal x,y,z")->required();
+  cmd->add_option("--graph", args->graph, "tree (the spanning tree), roadmap (every passing edge) or grid (wavefront)")
+      ->capture_default_str();
+  cmd->add_option("--algorithm", args->algorithm, "dijkstra or astar (tree and roadmap)")->capture_default_str();
+  cmd->add_option("--out", args->out, "Write the path as JSON here");
+  cmd->add_flag("--quiet", args->quiet, "Print nothing (the path goes to --out)");
+  cmd->callback([args] { run_plan(*args); });
+}
+
+}  // namespace sarmap::cli
