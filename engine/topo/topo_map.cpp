@@ -128,7 +128,18 @@ void TopoMap::connect() {
       }
     }
   }
+  // A ramp's foot and top are always a candidate, however long the ramp.
+  std::map<std::int64_t, std::uint32_t> feet;
+  for (const TopoNode& node : nodes_) {
+    if (node.alive && node.key.type == PlaceKey::Type::Foot) feet.emplace(node.key.a, node.id);
+  }
+  for (const TopoNode& node : nodes_) {
+    if (!node.alive || node.key.type != PlaceKey::Type::Top) continue;
+    const auto foot = feet.find(node.key.a);
+    if (foot != feet.end()) pairs.emplace_back(std::min(foot->second, node.id), std::max(foot->second, node.id));
+  }
   std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   last_.candidates = pairs.size();
 
   // The ground first (cheap, in parallel), then walls for what is left.

@@ -52,6 +52,28 @@ TraversabilityGrid traversability_grid(const VoxelColumns& columns, const TopoSe
     }
   }
 
+  // Pinholes and cracks: a cell nobody's ray ended in, between seen ground
+  // on two opposite sides at heights within a step, is that ground (a
+  // sensor's pixel grid leaves such one-cell gaps, lines of them across a
+  // slope). One pass over the cells as they were, so gaps never grow.
+  const std::vector<CellState> seen(out.grid.cells().begin(), out.grid.cells().end());
+  for (int y = 1; y + 1 < height; ++y) {
+    for (int x = 1; x + 1 < width; ++x) {
+      const std::size_t i = out.grid.index_of({x, y});
+      if (seen[i] != CellState::Unknown) continue;
+      for (const auto& [a, b] : {std::pair{GridCell{x - 1, y}, GridCell{x + 1, y}},
+                                 std::pair{GridCell{x, y - 1}, GridCell{x, y + 1}}}) {
+        const std::size_t ia = out.grid.index_of(a), ib = out.grid.index_of(b);
+        if (seen[ia] != CellState::Free || seen[ib] != CellState::Free) continue;
+        if (std::abs(out.ground[ia] - out.ground[ib]) > settings.max_step) continue;
+        out.grid.set({x, y}, CellState::Free);
+        out.ground[i] = (out.ground[ia] + out.ground[ib]) / 2;
+        out.ground_class[i] = out.ground_class[ia];
+        break;
+      }
+    }
+  }
+
   // Drops: a free cell more than a step above a free neighbour is a rim.
   std::vector<std::uint8_t> blocked(out.ground.size(), 0), rim(out.ground.size(), 0);
   for (int y = 0; y < height; ++y) {

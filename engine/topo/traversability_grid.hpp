@@ -1,9 +1,9 @@
 // The 2-D traversability grid projected from the metric map, as paper 001
 // projects its semantic map onto a plane: in each column of voxels the
 // walkable surface (the highest terrain or ramp voxel with the robot's height
-// of space above it); columns of walls and obstacles, and the rims of drops
-// (a platform's edge, a ramp's side), blocked; blocked cells grown by the
-// robot's radius. The wavefront planner plans on it; grid.pgm shows it.
+// of space above it); one-cell gaps in seen ground filled in; columns
+// of walls and obstacles, and the rims of drops (a platform's edge, a ramp's
+// side), blocked; blocked cells grown by the robot's radius. The wavefront planner plans on it; grid.pgm shows it.
 #pragma once
 
 #include <cmath>
