@@ -14,11 +14,17 @@ constexpr double kLevel = 0.1;
 // Inclined ramps flatter than this are floors, steeper ones ramps.
 constexpr double kRampMinSlopeDeg = 5.0;
 
-bool free_place(const TraversabilityGrid& t, const WallScene& walls, const Eigen::Vector3d& p, double max_step) {
+// A free cell, clear of walls, whose surface is the place's own: at its height
+// (not a deck above or a floor below) and of its class. No place is ever on a
+// slope: the low end of a ramp is within a step of the floor, but its class
+// gives it away.
+bool free_place(const TraversabilityGrid& t, const WallScene& walls, const Eigen::Vector3d& p, double max_step,
+                ClassId surface) {
   const GridCell cell = t.grid.cell_at(p.head<2>());
   if (!t.grid.contains(cell) || t.grid.at(cell) != CellState::Free) return false;
-  // The grid's surface there must be this one, not a deck above or a floor below.
-  return std::abs(t.ground_at(cell) - p.z()) <= max_step && walls.clear(p);
+  const ClassId ground = t.ground_class[t.grid.index_of(cell)];
+  const bool right_class = surface == ClassId::Unknown ? ground != ClassId::InclinedRamp : ground == surface;
+  return right_class && std::abs(t.ground_at(cell) - p.z()) <= max_step && walls.clear(p);
 }
 
 // Offsets a lattice point may take, nearest first: rings of 8 directions
@@ -88,7 +94,7 @@ std::vector<Place> place_nodes(const std::vector<const segments::Segment*>& segm
           for (const Eigen::Vector2d& offset : offsets) {
             const double x = static_cast<double>(i) * s + offset.x(), y = static_cast<double>(j) * s + offset.y();
             const Eigen::Vector3d p(x, y, segments::height_at(*seg, x, y));
-            if (!seg->covers(p, 0) || !free_place(t, walls, p, settings.max_step)) continue;
+            if (!seg->covers(p, 0) || !free_place(t, walls, p, settings.max_step, seg->label)) continue;
             places.push_back({{PlaceKey::Type::Lattice, i, j, level_of(p.z())}, p, kind, seg->id});
             break;
           }
@@ -96,7 +102,7 @@ std::vector<Place> place_nodes(const std::vector<const segments::Segment*>& segm
       }
       if (places.size() == before) {
         const Eigen::Vector3d c = seg->rectangle.center;
-        if (free_place(t, walls, c, settings.max_step)) places.push_back({{PlaceKey::Type::Centre, seg->id, 0, 0}, c, kind, seg->id});
+        if (free_place(t, walls, c, settings.max_step, seg->label)) places.push_back({{PlaceKey::Type::Centre, seg->id, 0, 0}, c, kind, seg->id});
       }
       continue;
     }
@@ -111,7 +117,8 @@ std::vector<Place> place_nodes(const std::vector<const segments::Segment*>& segm
       const float g = t.ground_at(cell);
       if (std::isnan(g) || std::abs(g - end.edge.z()) > settings.max_step + res) continue;
       const Eigen::Vector3d p(xy.x(), xy.y(), g);
-      if (!free_place(t, walls, p, settings.max_step)) continue;
+      // Off the ramp: on the floor or a deck, whatever its class, never the slope.
+      if (!free_place(t, walls, p, settings.max_step, ClassId::Unknown)) continue;
       places.push_back({{low ? PlaceKey::Type::Foot : PlaceKey::Type::Top, seg->id, 0, 0}, p,
                         low ? NodeKind::RampFoot : NodeKind::RampTop, seg->id});
     }
