@@ -1,6 +1,9 @@
 #include "engine/pipeline/mapper.hpp"
 
 #include <algorithm>
+#include <initializer_list>
+#include <string_view>
+#include <utility>
 
 #include "engine/core/error.hpp"
 #include "engine/metric/voxel_key.hpp"
@@ -13,6 +16,12 @@ metric::MetricMapSettings map_settings(const MapperConfig& c) {
   metric::MetricMapSettings s = c.map;
   s.resolution = c.voxel;
   return s;
+}
+
+// Adds each named count to a stage's counters.
+void add_counts(StageProfile& profile, std::string_view stage,
+                std::initializer_list<std::pair<std::string_view, double>> counts) {
+  for (const auto& [name, value] : counts) profile.add_count(stage, name, value);
 }
 
 metric::IntegratorSettings integrator_settings(const MapperConfig& c, const SensorInfo& sensor) {
@@ -61,13 +70,14 @@ void Mapper::integrate(Scan& scan) {
     }
     try {
       const ClassifyCounts counts = classifier_->classify(scan.points);
-      profile_.add_count("classify", "points", static_cast<double>(scan.points.size()));
-      profile_.add_count("classify", "blocks", static_cast<double>(counts.blocks));
-      profile_.add_count("classify", "unlabelled", static_cast<double>(counts.unlabelled));
-      profile_.add_count("classify", "ramp_vetoed", static_cast<double>(counts.vetoed));
-      profile_.add_count("classify", "wall_bands", static_cast<double>(counts.wall_bands));
-      profile_.add_count("classify", "ramp_sides", static_cast<double>(counts.ramp_sides));
-      profile_.add_count("classify", "wall_feet", static_cast<double>(counts.wall_feet));
+      add_counts(profile_, "classify",
+                 {{"points", scan.points.size()},
+                  {"blocks", counts.blocks},
+                  {"unlabelled", counts.unlabelled},
+                  {"ramp_vetoed", counts.vetoed},
+                  {"wall_bands", counts.wall_bands},
+                  {"ramp_sides", counts.ramp_sides},
+                  {"wall_feet", counts.wall_feet}});
     } catch (const Error& e) {
       throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
     }
@@ -76,11 +86,12 @@ void Mapper::integrate(Scan& scan) {
     const auto timer = profile_.time("metric");
     const metric::IntegrationStats s = integrator_.integrate(map_, scan.points, scan.origin);
     stats_ += s;
-    profile_.add_count("metric", "points_in", static_cast<double>(s.points_in));
-    profile_.add_count("metric", "points_rejected", static_cast<double>(s.points_rejected));
-    profile_.add_count("metric", "rays", static_cast<double>(s.rays));
-    profile_.add_count("metric", "voxel_visits", static_cast<double>(s.voxel_visits));
-    profile_.add_count("metric", "voxels_updated", static_cast<double>(s.hits + s.misses));
+    add_counts(profile_, "metric",
+               {{"points_in", s.points_in},
+                {"points_rejected", s.points_rejected},
+                {"rays", s.rays},
+                {"voxel_visits", s.voxel_visits},
+                {"voxels_updated", s.hits + s.misses}});
     // Scans too large for the dense scratch run slower through hash tables (IntegratorSettings).
     profile_.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
     if (config_.bounds.limited()) {
@@ -92,25 +103,27 @@ void Mapper::integrate(Scan& scan) {
   {
     const auto timer = profile_.time("segment");
     const segments::SegmentUpdate u = segments_.integrate(scan.points, scan.origin);
-    profile_.add_count("segment", "points_in", static_cast<double>(u.points_in));
-    profile_.add_count("segment", "points_far", static_cast<double>(u.points_far));
-    profile_.add_count("segment", "points_new", static_cast<double>(u.points_new));
-    profile_.add_count("segment", "points_attached", static_cast<double>(u.points_attached));
-    profile_.add_count("segment", "planes_found", static_cast<double>(u.planes_found));
-    profile_.add_count("segment", "created", static_cast<double>(u.created));
-    profile_.add_count("segment", "merged", static_cast<double>(u.merged));
-    profile_.add_count("segment", "removed", static_cast<double>(u.removed));
+    add_counts(profile_, "segment",
+               {{"points_in", u.points_in},
+                {"points_far", u.points_far},
+                {"points_new", u.points_new},
+                {"points_attached", u.points_attached},
+                {"planes_found", u.planes_found},
+                {"created", u.created},
+                {"merged", u.merged},
+                {"removed", u.removed}});
   }
   {
     const auto timer = profile_.time("topo");
     const topo::TopoUpdate u = topo_.update(segments_, map_);
-    profile_.add_count("topo", "nodes_added", static_cast<double>(u.nodes_added));
-    profile_.add_count("topo", "nodes_retired", static_cast<double>(u.nodes_retired));
-    profile_.add_count("topo", "candidates", static_cast<double>(u.candidates));
-    profile_.add_count("topo", "rejected_wall", static_cast<double>(u.rejected_wall));
-    profile_.add_count("topo", "rejected_drop", static_cast<double>(u.rejected_drop));
-    profile_.add_count("topo", "rejected_steep", static_cast<double>(u.rejected_steep));
-    profile_.add_count("topo", "rejected_unknown", static_cast<double>(u.rejected_unknown));
+    add_counts(profile_, "topo",
+               {{"nodes_added", u.nodes_added},
+                {"nodes_retired", u.nodes_retired},
+                {"candidates", u.candidates},
+                {"rejected_wall", u.rejected_wall},
+                {"rejected_drop", u.rejected_drop},
+                {"rejected_steep", u.rejected_steep},
+                {"rejected_unknown", u.rejected_unknown}});
   }
   keep_semantic_points(scan.points);
 }

@@ -1,18 +1,17 @@
 #include "engine/segments/segment_files.hpp"
 
-#include <fstream>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
-
-#include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/json_fields.hpp"
 #include "engine/io/ply_mesh.hpp"
 
 namespace sarmap::segments {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using json_fields::Json;
+using json_fields::fail;
+using json_fields::member;
+using json_fields::number;
+using json_fields::vector3;
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
@@ -36,37 +35,14 @@ Json segment_json(const Segment& s) {
   return j;
 }
 
-[[noreturn]] void bad(const std::filesystem::path& path, const std::string& where, const std::string& what) {
-  throw Error(ErrorCode::InvalidData, path.string() + ": " + where + ": " + what);
-}
-
-const Json& member(const Json& j, const char* key, const std::filesystem::path& path, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) bad(path, where, std::string("missing \"") + key + "\"");
-  return j[key];
-}
-
-double number(const Json& j, const char* key, const std::filesystem::path& path, const std::string& where) {
-  const Json& v = member(j, key, path, where);
-  if (!v.is_number()) bad(path, where, std::string("\"") + key + "\" is not a number");
-  return v.get<double>();
-}
-
-Eigen::Vector3d vector3(const Json& v, const std::string& name, const std::filesystem::path& path,
-                        const std::string& where) {
-  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number()) {
-    bad(path, where, "\"" + name + "\" is not three numbers");
-  }
-  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-}
-
 Segment parse_segment(const Json& j, const std::filesystem::path& path, const std::string& where) {
   Segment s;
   const Json& id = member(j, "id", path, where);
-  if (!id.is_number_unsigned()) bad(path, where, "\"id\" is not an unsigned integer");
+  if (!id.is_number_unsigned()) fail(path, where, "\"id\" is not an unsigned integer");
   s.id = id.get<std::uint32_t>();
   const Json& label = member(j, "class", path, where);
   const auto c = label.is_string() ? class_from_name(label.get<std::string>()) : std::nullopt;
-  if (!c) bad(path, where, "\"class\" is not a class name");
+  if (!c) fail(path, where, "\"class\" is not a class name");
   s.label = *c;
   s.plane.normal = vector3(member(j, "normal", path, where), "normal", path, where);
   s.plane.offset = number(j, "offset", path, where);
@@ -79,9 +55,9 @@ Segment parse_segment(const Json& j, const std::filesystem::path& path, const st
   s.rectangle.center = vector3(member(r, "center", path, where), "rectangle.center", path, where);
   const Json& axes = member(r, "axes", path, where);
   const Json& half = member(r, "half_extents", path, where);
-  if (!axes.is_array() || axes.size() != 2) bad(path, where, "\"rectangle.axes\" is not two vectors");
+  if (!axes.is_array() || axes.size() != 2) fail(path, where, "\"rectangle.axes\" is not two vectors");
   if (!half.is_array() || half.size() != 2 || !half[0].is_number() || !half[1].is_number()) {
-    bad(path, where, "\"rectangle.half_extents\" is not two numbers");
+    fail(path, where, "\"rectangle.half_extents\" is not two numbers");
   }
   for (int a = 0; a < 2; ++a) {
     s.rectangle.axes[a] = vector3(axes[a], "rectangle.axes", path, where);
@@ -124,29 +100,24 @@ void write_segments_ply(const std::filesystem::path& path, const SegmentMap& map
 }
 
 SegmentsFile read_segments_json(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  Json j = Json::parse(text.str(), nullptr, false);
-  if (j.is_discarded()) throw Error(ErrorCode::Parse, path.string() + ": not valid JSON");
+  const Json j = json_fields::read_file(path);
   const Json& version = member(j, "version", path, "top level");
   if (!version.is_number_integer() || version.get<int>() != kSegmentsFormatVersion) {
-    bad(path, "top level", "\"version\" must be " + std::to_string(kSegmentsFormatVersion));
+    fail(path, "top level", "\"version\" must be " + std::to_string(kSegmentsFormatVersion));
   }
   SegmentsFile file;
   const Json& list = member(j, "segments", path, "top level");
-  if (!list.is_array()) bad(path, "top level", "\"segments\" is not an array");
+  if (!list.is_array()) fail(path, "top level", "\"segments\" is not an array");
   for (std::size_t i = 0; i < list.size(); ++i) {
     file.segments.push_back(parse_segment(list[i], path, "segments[" + std::to_string(i) + "]"));
   }
   if (j.contains("merges")) {
     const Json& merges = j["merges"];
-    if (!merges.is_array()) bad(path, "top level", "\"merges\" is not an array");
+    if (!merges.is_array()) fail(path, "top level", "\"merges\" is not an array");
     for (std::size_t i = 0; i < merges.size(); ++i) {
       const Json& m = merges[i];
       if (!m.is_array() || m.size() != 2 || !m[0].is_number_unsigned() || !m[1].is_number_unsigned()) {
-        bad(path, "merges[" + std::to_string(i) + "]", "not two ids");
+        fail(path, "merges[" + std::to_string(i) + "]", "not two ids");
       }
       file.merges.emplace_back(m[0].get<std::uint32_t>(), m[1].get<std::uint32_t>());
     }

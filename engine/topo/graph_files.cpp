@@ -1,19 +1,19 @@
 #include "engine/topo/graph_files.hpp"
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/json_fields.hpp"
 #include "engine/io/ply_mesh.hpp"
 
 namespace sarmap::topo {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using json_fields::Json;
+using json_fields::fail;
+using json_fields::member;
+using json_fields::number;
 
 Json settings_json(const TopoSettings& s) {
   return {{"robot_radius", s.robot_radius},   {"robot_height", s.robot_height},
@@ -29,25 +29,10 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
   out.commit();
 }
 
-[[noreturn]] void bad(const std::filesystem::path& path, const std::string& where, const std::string& what) {
-  throw Error(ErrorCode::InvalidData, path.string() + ": " + where + ": " + what);
-}
-
-const Json& member(const Json& j, const char* key, const std::filesystem::path& path, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) bad(path, where, std::string("missing \"") + key + "\"");
-  return j[key];
-}
-
-double number(const Json& j, const char* key, const std::filesystem::path& path, const std::string& where) {
-  const Json& v = member(j, key, path, where);
-  if (!v.is_number()) bad(path, where, std::string("\"") + key + "\" is not a number");
-  return v.get<double>();
-}
-
 std::uint32_t id_of(const Json& j, const char* key, const std::filesystem::path& path, const std::string& where) {
   const Json& v = member(j, key, path, where);
   if (!v.is_number_unsigned() || v.get<std::uint64_t>() > 0xfffffffeull) {
-    bad(path, where, std::string("\"") + key + "\" is not a node id");
+    fail(path, where, std::string("\"") + key + "\" is not a node id");
   }
   return v.get<std::uint32_t>();
 }
@@ -58,10 +43,10 @@ TopoSettings parse_settings(const Json& g, const std::filesystem::path& path) {
   s.robot_radius = number(g, "robot_radius", path, where);
   s.robot_height = number(g, "robot_height", path, where);
   const Json& heights = member(g, "body_heights", path, where);
-  if (!heights.is_array()) bad(path, where, "\"body_heights\" is not an array");
+  if (!heights.is_array()) fail(path, where, "\"body_heights\" is not an array");
   s.body_heights.clear();
   for (const Json& h : heights) {
-    if (!h.is_number()) bad(path, where, "\"body_heights\" holds a non-number");
+    if (!h.is_number()) fail(path, where, "\"body_heights\" holds a non-number");
     s.body_heights.push_back(h.get<double>());
   }
   s.max_slope_deg = number(g, "max_slope_deg", path, where);
@@ -70,13 +55,13 @@ TopoSettings parse_settings(const Json& g, const std::filesystem::path& path) {
   s.edge_radius = number(g, "edge_radius", path, where);
   const Json& voxels = member(g, "obstacle_voxels", path, where);
   const Json& unknown = member(g, "unknown_traversable", path, where);
-  if (!voxels.is_boolean() || !unknown.is_boolean()) bad(path, where, "obstacle_voxels and unknown_traversable are true or false");
+  if (!voxels.is_boolean() || !unknown.is_boolean()) fail(path, where, "obstacle_voxels and unknown_traversable are true or false");
   s.obstacle_voxels = voxels.get<bool>();
   s.unknown_traversable = unknown.get<bool>();
   try {
     validate(s);
   } catch (const Error& e) {
-    bad(path, where, e.what());
+    fail(path, where, e.what());
   }
   return s;
 }
@@ -167,27 +152,18 @@ void write_graph_ply(const std::filesystem::path& path, const TopoMap& map) {
 }
 
 GraphFile read_graph_json(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  const Json j = Json::parse(text.str(), nullptr, false);
-  if (j.is_discarded()) throw Error(ErrorCode::Parse, path.string() + ": not valid JSON");
+  const Json j = json_fields::read_file(path);
   GraphFile file;
   file.settings = parse_settings(member(j, "graph", path, "top level"), path);
   const Json& nodes = member(j, "nodes", path, "top level");
   const Json& links = member(j, "links", path, "top level");
-  if (!nodes.is_array() || !links.is_array()) bad(path, "top level", "\"nodes\" and \"links\" must be arrays");
+  if (!nodes.is_array() || !links.is_array()) fail(path, "top level", "\"nodes\" and \"links\" must be arrays");
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const std::string where = "nodes[" + std::to_string(i) + "]";
     TopoNode n;
     n.id = id_of(nodes[i], "id", path, where);
-    const Json& pos = member(nodes[i], "pos", path, where);
-    if (!pos.is_array() || pos.size() != 3 || !pos[0].is_number() || !pos[1].is_number() || !pos[2].is_number()) {
-      bad(path, where, "\"pos\" is not three numbers");
-    }
-    n.position = {pos[0].get<double>(), pos[1].get<double>(), pos[2].get<double>()};
-    if (!n.position.allFinite()) bad(path, where, "\"pos\" is not finite");
+    n.position = json_fields::vector3(member(nodes[i], "pos", path, where), "pos", path, where);
+    if (!n.position.allFinite()) fail(path, where, "\"pos\" is not finite");
     const Json& kind = member(nodes[i], "kind", path, where);
     bool known = false;
     for (NodeKind k : {NodeKind::Terrain, NodeKind::FlatRamp, NodeKind::RampFoot, NodeKind::RampTop}) {
@@ -196,9 +172,9 @@ GraphFile read_graph_json(const std::filesystem::path& path) {
         known = true;
       }
     }
-    if (!known) bad(path, where, "\"kind\" is not terrain, flat_ramp, ramp_foot or ramp_top");
+    if (!known) fail(path, where, "\"kind\" is not terrain, flat_ramp, ramp_foot or ramp_top");
     n.segment = id_of(nodes[i], "segment", path, where);
-    if (n.id < file.nodes.size() && file.nodes[n.id].alive) bad(path, where, "node id " + std::to_string(n.id) + " repeats");
+    if (n.id < file.nodes.size() && file.nodes[n.id].alive) fail(path, where, "node id " + std::to_string(n.id) + " repeats");
     if (n.id >= file.nodes.size()) {
       const std::size_t before = file.nodes.size();
       file.nodes.resize(n.id + 1);
@@ -216,20 +192,20 @@ GraphFile read_graph_json(const std::filesystem::path& path) {
     e.a = id_of(links[i], "source", path, where);
     e.b = id_of(links[i], "target", path, where);
     if (e.a >= file.nodes.size() || e.b >= file.nodes.size() || !file.nodes[e.a].alive || !file.nodes[e.b].alive) {
-      bad(path, where, "joins a node the file does not list");
+      fail(path, where, "joins a node the file does not list");
     }
     e.length = number(links[i], "length", path, where);
     const double straight = (file.nodes[e.a].position - file.nodes[e.b].position).norm();
     if (!(std::abs(e.length - straight) <= 1e-6 * std::max(1.0, straight))) {
-      bad(path, where, "\"length\" is not the distance between its nodes");
+      fail(path, where, "\"length\" is not the distance between its nodes");
     }
     e.slope_deg = number(links[i], "slope_deg", path, where);
     const Json& ground = member(links[i], "ground", path, where);
     const auto c = ground.is_string() ? class_from_name(ground.get<std::string>()) : std::nullopt;
-    if (!c) bad(path, where, "\"ground\" is not a class name");
+    if (!c) fail(path, where, "\"ground\" is not a class name");
     e.ground = *c;
     const Json& tree = member(links[i], "in_tree", path, where);
-    if (!tree.is_boolean()) bad(path, where, "\"in_tree\" is not true or false");
+    if (!tree.is_boolean()) fail(path, where, "\"in_tree\" is not true or false");
     e.in_tree = tree.get<bool>();
     file.edges.push_back(e);
   }

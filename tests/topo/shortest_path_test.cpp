@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "tests/io/error_message.hpp"
 #include "engine/topo/spanning_forest.hpp"
 
 namespace sarmap::topo {
@@ -213,32 +214,22 @@ TEST(ShortestPath, ReusedSearchAnswersAsAFreshOne) {
   }
 }
 
-void expect_invalid(const std::function<void()>& call, const std::string& fragment) {
-  try {
-    call();
-    ADD_FAILURE() << "no error; expected one naming '" << fragment << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
-}
-
 TEST(ShortestPath, BadQueriesAndGraphsAreRefused) {
   const std::vector<WeightedEdge> edges{{0, 1, 1.0}};
   const CsrGraph without_positions(2, edges);
-  expect_invalid([&] { dijkstra_path(without_positions, 2, 0); },
+  test::expect_invalid_argument([&] { dijkstra_path(without_positions, 2, 0); },
                  "the source node 2 is out of range (2 nodes)");
-  expect_invalid([&] { dijkstra_path(without_positions, 0, 7); }, "the target node 7 is out of range");
-  expect_invalid([&] { dijkstra_distances(without_positions, 9); }, "the source node 9");
-  expect_invalid([&] { a_star_path(without_positions, 0, 1); }, "A* needs node positions");
-  expect_invalid([&] { CsrGraph(2, edges, {}, {Eigen::Vector3d::Zero()}); }, "1 node positions for 2 nodes");
-  expect_invalid(
+  test::expect_invalid_argument([&] { dijkstra_path(without_positions, 0, 7); }, "the target node 7 is out of range");
+  test::expect_invalid_argument([&] { dijkstra_distances(without_positions, 9); }, "the source node 9");
+  test::expect_invalid_argument([&] { a_star_path(without_positions, 0, 1); }, "A* needs node positions");
+  test::expect_invalid_argument([&] { CsrGraph(2, edges, {}, {Eigen::Vector3d::Zero()}); }, "1 node positions for 2 nodes");
+  test::expect_invalid_argument(
       [&] {
         CsrGraph(2, edges, {}, {Eigen::Vector3d::Zero(), Eigen::Vector3d(std::nan(""), 0, 0)});
       },
       "node 1 has a non-finite position");
   // Shorter than the straight line would make A*'s bound overestimate.
-  expect_invalid(
+  test::expect_invalid_argument(
       [&] {
         CsrGraph(2, edges, {}, {Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 0, 0)});
       },
@@ -246,7 +237,7 @@ TEST(ShortestPath, BadQueriesAndGraphsAreRefused) {
   // ... unless the mask leaves that edge out.
   const std::vector<std::uint8_t> none{0};
   EXPECT_NO_THROW(CsrGraph(2, edges, none, {Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 0, 0)}));
-  expect_invalid([&] { CsrGraph(1, edges); },
+  test::expect_invalid_argument([&] { CsrGraph(1, edges); },
                  "edge 0 (0 - 1, weight 1): node id 1 is out of range (1 nodes)");
 }
 

@@ -25,6 +25,7 @@
 #include <boost/graph/kruskal_min_spanning_tree.hpp>
 
 #include "engine/core/error.hpp"
+#include "tests/io/error_message.hpp"
 #include "engine/topo/union_find.hpp"
 
 namespace sarmap::topo {
@@ -268,44 +269,34 @@ TEST(SpanningForest, EmptyGraphsAndLoneNodes) {
   EXPECT_TRUE(minimum_spanning_forest(2, edges, none).edges.empty());
 }
 
-void expect_error_naming(const std::function<void()>& call, const std::string& fragment) {
-  try {
-    call();
-    ADD_FAILURE() << "no error; expected one naming '" << fragment << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
-}
-
 TEST(SpanningForest, BadEdgesAreRefusedByIndex) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  expect_error_naming(
+  test::expect_invalid_argument(
       [&] {
         minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, 1.0}, {1, 2, nan}});
       },
       "edge 1 (1 - 2, weight nan)");
-  expect_error_naming(
+  test::expect_invalid_argument(
       [&] {
         minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, -0.5}});
       },
       "edge 0 (0 - 1, weight -0.5): the weight must be a finite number >= 0");
-  expect_error_naming([&] { minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, inf}}); }, "edge 0");
-  expect_error_naming(
+  test::expect_invalid_argument([&] { minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, inf}}); }, "edge 0");
+  test::expect_invalid_argument(
       [&] {
         minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, 1.0}, {0, 2, 1.0}, {3, 0, 1.0}});
       },
       "edge 2 (3 - 0, weight 1): node id 3 is out of range (3 nodes)");
   const std::vector<std::uint8_t> short_mask{1};
-  expect_error_naming(
+  test::expect_invalid_argument(
       [&] {
         minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, 1.0}, {1, 2, 1.0}}, short_mask);
       },
       "the edge mask has 1 entries for 2 edges");
   // Masked-out edges are checked too: a bad value is a caller's bug wherever it sits.
   const std::vector<std::uint8_t> skip_second{1, 0};
-  expect_error_naming(
+  test::expect_invalid_argument(
       [&] {
         minimum_spanning_forest(3, std::vector<WeightedEdge>{{0, 1, 1.0}, {1, 2, nan}}, skip_second);
       },
@@ -316,7 +307,7 @@ TEST(SpanningForest, MaskOfEdgesMarksTheChosenOnes) {
   const std::vector<EdgeId> chosen{3, 0};
   EXPECT_EQ(mask_of_edges(5, chosen), (std::vector<std::uint8_t>{1, 0, 0, 1, 0}));
   const std::vector<EdgeId> beyond{5};
-  expect_error_naming([&] { mask_of_edges(5, beyond); }, "edge id 5 is out of range (5 edges)");
+  test::expect_invalid_argument([&] { mask_of_edges(5, beyond); }, "edge id 5 is out of range (5 edges)");
 }
 
 }  // namespace
