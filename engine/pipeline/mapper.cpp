@@ -115,7 +115,10 @@ void Mapper::integrate(Scan& scan) {
   }
   {
     const auto timer = profile_.time("topo");
-    const topo::TopoUpdate u = topo_.update(segments_, map_);
+    // The scan changed voxels only between its origin and its points.
+    Bounds changed = scan.points.bounds();
+    changed.extend(scan.origin);
+    const topo::TopoUpdate u = topo_.update(segments_, map_, &changed);
     add_counts(profile_, "topo",
                {{"nodes_added", u.nodes_added},
                 {"nodes_retired", u.nodes_retired},

@@ -33,9 +33,11 @@ TopoMap::~TopoMap() = default;
 TopoMap::TopoMap(TopoMap&&) noexcept = default;
 TopoMap& TopoMap::operator=(TopoMap&&) noexcept = default;
 
-TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric::MetricMap& map) {
+TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric::MetricMap& map,
+                           const Bounds* changed) {
   const std::vector<const segments::Segment*> segments = segment_map.segments();
-  const VoxelColumns columns = voxel_columns(map);
+  voxels_.refresh(map, changed);
+  const VoxelColumns columns = voxels_.columns(map.resolution());
   grid_ = traversability_grid(columns, settings_);
   walls_ = std::make_unique<WallScene>(segments, &columns, settings_);
   last_ = TopoUpdate();

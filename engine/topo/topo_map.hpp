@@ -23,6 +23,7 @@
 #include "engine/topo/node_placement.hpp"
 #include "engine/topo/topo_settings.hpp"
 #include "engine/topo/traversability_grid.hpp"
+#include "engine/topo/voxel_columns.hpp"
 #include "engine/topo/wall_scene.hpp"
 
 namespace sarmap::topo {
@@ -61,8 +62,11 @@ class TopoMap {
   TopoMap& operator=(TopoMap&&) noexcept;
 
   // Rebuilds the grid, the wall scene, the nodes and edges from the current
-  // segments and metric map. Deterministic for any thread count.
-  TopoUpdate update(const segments::SegmentMap& segments, const metric::MetricMap& map);
+  // segments and metric map. `changed` bounds where the map changed since the
+  // last update (a scan's points and origin), so only voxels there are read
+  // again; null reads the whole map. Deterministic for any thread count.
+  TopoUpdate update(const segments::SegmentMap& segments, const metric::MetricMap& map,
+                    const Bounds* changed = nullptr);
 
   // A map saved by a run (graph.json's nodes and edges) on the segments and
   // metric map it was built from, for planning without re-running.
@@ -89,6 +93,7 @@ class TopoMap {
   std::vector<TopoNode> nodes_;
   std::vector<TopoEdge> edges_;
   TraversabilityGrid grid_;
+  OccupiedVoxelCache voxels_;
   std::unique_ptr<WallScene> walls_;
   TopoUpdate last_;
 };

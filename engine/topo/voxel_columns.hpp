@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 #include <span>
 #include <vector>
 
+#include "engine/core/bounds.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/metric/metric_map.hpp"
 
@@ -28,5 +30,25 @@ struct VoxelColumns {
 
 // Deterministic whatever the hash order of the map's blocks.
 VoxelColumns voxel_columns(const metric::MetricMap& map);
+
+// The map's occupied voxels block by block, kept between updates so that an
+// update rescans only the blocks a scan can have changed (a scan changes
+// voxels only between its origin and its points), not the whole map.
+class OccupiedVoxelCache {
+ public:
+  // Rescans the map's blocks that meet `changed` (every block when null) and
+  // forgets blocks the map no longer holds.
+  void refresh(const metric::MetricMap& map, const Bounds* changed);
+  // The cached voxels by column; the same as voxel_columns(map) after a
+  // refresh that covered every change.
+  VoxelColumns columns(double resolution) const;
+
+ private:
+  struct Voxel {
+    std::int32_t x, y, z;
+    ClassId label;
+  };
+  std::unordered_map<std::uint64_t, std::vector<Voxel>> blocks_;
+};
 
 }  // namespace sarmap::topo

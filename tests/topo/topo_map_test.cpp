@@ -275,3 +275,36 @@ TEST(RouteJson, FoundAndNotFound) {
 
 }  // namespace
 }  // namespace sarmap::topo
+
+namespace sarmap::topo {
+namespace {
+
+bool same_columns(const VoxelColumns& a, const VoxelColumns& b) {
+  return a.x0 == b.x0 && a.y0 == b.y0 && a.width == b.width && a.height == b.height && a.start == b.start &&
+         a.z == b.z && a.label == b.label;
+}
+
+TEST(OccupiedVoxelCache, RescanningTheChangedRegionMatchesAFullRead) {
+  metric::MetricMap map = world_map();
+  OccupiedVoxelCache cache;
+  cache.refresh(map, nullptr);
+  EXPECT_TRUE(same_columns(cache.columns(map.resolution()), voxel_columns(map)));
+  // A box appears on the floor and part of a wall is seen free: changes within one region.
+  for (double x = 0.5; x < 0.8; x += 0.05) {
+    for (double y = 0.5; y < 0.8; y += 0.05) testing::set_voxel(map, {x + 0.01, y + 0.01, 0.11}, true, ClassId::Other);
+  }
+  testing::set_voxel(map, {2.01, 0.51, 0.51}, false, ClassId::Unknown);
+  Bounds changed;
+  changed.extend({0.4, 0.4, 0});
+  changed.extend({2.1, 0.9, 0.6});
+  EXPECT_FALSE(same_columns(cache.columns(map.resolution()), voxel_columns(map)));
+  cache.refresh(map, &changed);
+  EXPECT_TRUE(same_columns(cache.columns(map.resolution()), voxel_columns(map)));
+  // Blocks the map forgets are forgotten.
+  map.blocks().clear();
+  cache.refresh(map, &changed);
+  EXPECT_TRUE(cache.columns(map.resolution()).empty());
+}
+
+}  // namespace
+}  // namespace sarmap::topo
