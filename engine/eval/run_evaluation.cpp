@@ -46,7 +46,7 @@ void note_partial_run(const sim::Arena& arena, const std::filesystem::path& run_
   if (scans < frames) {
     notes.push_back("the run holds " + std::to_string(scans) + " of the trajectory's " +
                     std::to_string(frames) +
-                    " frames; voxel recall and free accuracy count what all of them see");
+                    " frames; voxel recall, free accuracy and seen faces count what all of them see");
   }
 }
 
@@ -89,7 +89,6 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   if (present(kMapFile)) {
     const metric::MetricMap map = metric::load_map(run_dir / kMapFile);
     e.voxels = score_voxels(map, truth_at(map.resolution()));
-    note_partial_run(arena, run_dir, e.notes);
   } else {
     e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
   }
@@ -99,6 +98,7 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   } else {
     e.notes.push_back(std::string(kSegmentsFile) + " absent: no segment figures");
   }
+  if (truth) note_partial_run(arena, run_dir, e.notes);
   if (!present(kGraphFile)) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
   return e;
 }
