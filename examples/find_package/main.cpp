@@ -1,6 +1,6 @@
 // A front end outside sarmap's tree, linked against the installed package:
-// maps the sequence named on the command line and prints the stage profile
-// and the state of one voxel.
+// maps the sequence named on the command line and prints the stage profile,
+// the voxel counts, the segments and the topological map's size.
 #include <cstdio>
 #include <exception>
 
@@ -8,6 +8,7 @@
 #include "engine/core/version.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/pipeline/mapper.hpp"
+#include "engine/topo/route_planner.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {
@@ -25,8 +26,12 @@ int main(int argc, char** argv) {
     sarmap::Scan scan;
     while (source->next(scan)) mapper.integrate(scan);
     const auto counts = mapper.metric_map().counts();
-    std::printf("sarmap %s: %zu scans, %zu occupied and %zu free voxels\n", sarmap::kVersion,
-                mapper.profile().scan_count(), counts.occupied, counts.free);
+    std::printf("sarmap %s: %zu scans, %zu occupied and %zu free voxels, %zu segments, %zu topological nodes\n",
+                sarmap::kVersion, mapper.profile().scan_count(), counts.occupied, counts.free,
+                mapper.segment_map().size(), mapper.topo_map().nodes().size());
+    const auto route = sarmap::topo::plan_route(mapper.topo_map(), {0, 0, 0}, {1, 0, 0},
+                                                sarmap::topo::RouteGraph::Grid);
+    std::printf("grid route: %s\n", route.found ? "found" : route.reason.c_str());
     std::puts(mapper.profile().table().c_str());
     return counts.occupied > 0 ? 0 : 1;
   } catch (const sarmap::Error& e) {
