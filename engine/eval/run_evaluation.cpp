@@ -10,6 +10,7 @@
 #include "engine/io/ply.hpp"
 #include "engine/metric/map_file.hpp"
 #include "engine/segments/segment_files.hpp"
+#include "engine/topo/graph_files.hpp"
 #include "engine/sim/ground_truth_grid.hpp"
 
 namespace sarmap::eval {
@@ -86,20 +87,36 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
     }
     return *truth;
   };
+  std::optional<metric::MetricMap> map;
   if (present(kMapFile)) {
-    const metric::MetricMap map = metric::load_map(run_dir / kMapFile);
-    e.voxels = score_voxels(map, truth_at(map.resolution()));
+    map = metric::load_map(run_dir / kMapFile);
+    e.voxels = score_voxels(*map, truth_at(map->resolution()));
   } else {
     e.notes.push_back(std::string(kMapFile) + " absent: no voxel figures");
   }
+  std::optional<segments::SegmentsFile> segments_file;
   if (present(kSegmentsFile)) {
-    const segments::SegmentsFile file = segments::read_segments_json(run_dir / kSegmentsFile);
-    e.segments = score_segments(arena, truth_at(kSegmentTruthResolution), file.segments);
+    segments_file = segments::read_segments_json(run_dir / kSegmentsFile);
+    e.segments = score_segments(arena, truth_at(kSegmentTruthResolution), segments_file->segments);
   } else {
     e.notes.push_back(std::string(kSegmentsFile) + " absent: no segment figures");
   }
   if (truth) note_partial_run(arena, run_dir, e.notes);
-  if (!present(kGraphFile)) e.notes.push_back(std::string(kGraphFile) + " absent: no path figures");
+  if (present(kGraphFile)) {
+    topo::GraphFile graph = topo::read_graph_json(run_dir / kGraphFile);
+    // Routes need the wall scene and the grid the run planned on.
+    std::optional<topo::TopoMap> routes;
+    if (map && segments_file) {
+      std::vector<const segments::Segment*> segments;
+      for (const segments::Segment& s : segments_file->segments) segments.push_back(&s);
+      routes = topo::TopoMap::restore(graph.settings, graph.nodes, graph.edges, segments, *map);
+    } else {
+      e.notes.push_back("graph.json without map.sarmap and segments.json: edge figures only, no path figures");
+    }
+    e.graph = score_graph(arena, graph, routes ? &*routes : nullptr);
+  } else {
+    e.notes.push_back(std::string(kGraphFile) + " absent: no graph or path figures");
+  }
   return e;
 }
 
@@ -139,6 +156,7 @@ std::string format_json(const RunEvaluation& e) {
   }
   if (e.voxels) add_voxel_scores_json(*e.voxels, j);
   if (e.segments) add_segment_scores_json(*e.segments, j);
+  if (e.graph) add_graph_scores_json(*e.graph, j);
   j["notes"] = e.notes;
   return j.dump(2) + "\n";
 }
@@ -181,6 +199,7 @@ std::string format_table(const RunEvaluation& e) {
   }
   if (e.voxels) out << "\n" << format_voxel_scores(*e.voxels);
   if (e.segments) out << "\n" << format_segment_scores(*e.segments);
+  if (e.graph) out << "\n" << format_graph_scores(*e.graph);
   if (!e.notes.empty()) {
     out << "\n";
     for (const std::string& n : e.notes) out << "note: " << n << "\n";

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/eval/graph_scores.hpp"
 #include "engine/eval/point_evaluation.hpp"
 #include "engine/eval/segment_scores.hpp"
 #include "engine/eval/voxel_scores.hpp"
@@ -30,6 +31,8 @@ struct RunEvaluation {
   // segments.json against the arena's faces, seen as the same voxelisation
   // says (at the map's resolution, or kSegmentTruthResolution without a map).
   std::optional<SegmentScores> segments;
+  // graph.json: edges against the true walls, routes of the arena's pairs.
+  std::optional<GraphScores> graph;
   std::vector<std::string> notes;          // what was not scored, and why
 };
 

@@ -127,6 +127,9 @@ void run_demo(const DemoArgs& a) {
   if (evaluation.segments) {
     std::printf("segments  %s\n", eval::segment_scores_summary(*evaluation.segments).c_str());
   }
+  if (evaluation.graph) {
+    std::printf("graph     %s\n", eval::graph_scores_summary(*evaluation.graph).c_str());
+  }
   std::printf("eval      %.1f s; figures in %s (sarmap eval --json)\n", eval_s,
               (out / "eval.json").string().c_str());
   std::printf(
