@@ -64,13 +64,15 @@ double rectangle_gap(const Segment& a, const Segment& b) {
 
 bool same_surface(const Segment& a, const Segment& b, const SegmentSettings& s) {
   if (a.label != b.label) return false;
-  if (a.plane.normal.dot(b.plane.normal) < std::cos(s.merge_angle_deg * std::numbers::pi / 180.0)) return false;
   // The smaller segment's centroid against the larger one's plane: a small
   // segment's plane, tilted by a degree, would miss a far centroid.
   const Segment& large = a.inliers >= b.inliers ? a : b;
   const Segment& small = a.inliers >= b.inliers ? b : a;
   if (std::abs(large.plane.distance(small.centroid)) > s.merge_offset) return false;
-  return rectangle_gap(a, b) <= s.merge_gap;
+  const bool on_it = large.covers(small.centroid, 0);
+  const double angle = on_it ? s.merge_overlap_angle_deg : s.merge_angle_deg;
+  if (a.plane.normal.dot(b.plane.normal) < std::cos(angle * std::numbers::pi / 180.0)) return false;
+  return on_it || rectangle_gap(a, b) <= s.merge_gap;
 }
 
 }  // namespace sarmap::segments

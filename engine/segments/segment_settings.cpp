@@ -24,6 +24,8 @@ void validate(const SegmentSettings& s) {
   require(s.min_points >= 3, "min_points must be >= 3");
   require(s.cluster_radius > 0 && std::isfinite(s.cluster_radius), "cluster_radius must be > 0");
   require(s.merge_angle_deg >= 0 && s.merge_angle_deg < 90, "merge_angle_deg must be in [0, 90)");
+  require(s.merge_overlap_angle_deg >= s.merge_angle_deg && s.merge_overlap_angle_deg < 90,
+          "merge_overlap_angle_deg must be in [merge_angle_deg, 90)");
   require(s.merge_offset >= 0 && std::isfinite(s.merge_offset), "merge_offset must be >= 0");
   require(s.merge_gap >= 0 && std::isfinite(s.merge_gap), "merge_gap must be >= 0");
   require(s.max_range >= 0 && std::isfinite(s.max_range), "max_range must be >= 0 (0 = no limit)");

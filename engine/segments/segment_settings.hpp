@@ -31,6 +31,10 @@ struct SegmentSettings {
   // (metres) of the larger one's plane, and their rectangles overlap or are at most merge_gap apart
   // (metres; well below the arenas' doorways, which are at least 0.6 m wide).
   double merge_angle_deg = 5.0;
+  // A smaller segment whose centroid lies on a larger one's rectangle (a
+  // noisy or mislabelled slab inside a known surface) merges up to this
+  // angle instead.
+  double merge_overlap_angle_deg = 20.0;
   double merge_offset = 0.04;
   double merge_gap = 0.15;
   // Points farther than this from the sensor (metres) are left out; 0 keeps

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 namespace sarmap::segments {
 namespace {
 
@@ -34,6 +37,26 @@ TEST(SegmentMerge, ADoorwayKeepsTwoWallsApartAndTouchingPartsMerge) {
   Segment other = wall(1, 2);
   other.label = ClassId::Other;
   EXPECT_FALSE(same_surface(wall(0, 1.5), other, s));
+}
+
+TEST(SegmentMerge, ATiltedSlabOnAKnownWallMergesAndBesideItDoesNot) {
+  const SegmentSettings s;
+  Segment big = wall(0, 4);
+  big.inliers = 10000;
+  Segment slab = wall(1, 2);
+  slab.inliers = 500;
+  const double tilt = 12 * std::numbers::pi / 180;  // past merge_angle_deg, within merge_overlap_angle_deg
+  slab.plane.normal = Eigen::Vector3d(0, -std::cos(tilt), std::sin(tilt));
+  slab.plane.offset = -slab.plane.normal.dot(slab.centroid);
+  EXPECT_TRUE(same_surface(big, slab, s));
+  Segment beside = slab;  // the same slab just past the wall's end: not on it
+  beside.centroid.x() += 3.5;
+  beside.rectangle.center.x() += 3.5;
+  beside.plane.offset = -beside.plane.normal.dot(beside.centroid);
+  EXPECT_FALSE(same_surface(big, beside, s));
+  slab.plane.normal = Eigen::Vector3d(0, -std::cos(3 * tilt), std::sin(3 * tilt));
+  slab.plane.offset = -slab.plane.normal.dot(slab.centroid);
+  EXPECT_FALSE(same_surface(big, slab, s));  // 36 degrees: another surface
 }
 
 }  // namespace

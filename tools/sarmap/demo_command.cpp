@@ -133,8 +133,8 @@ void run_demo(const DemoArgs& a) {
   std::printf("eval      %.1f s; figures in %s (sarmap eval --json)\n", eval_s,
               (out / "eval.json").string().c_str());
   std::printf(
-      "outputs   %s: map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, manifest.json, "
-      "profile.json\n",
+      "outputs   %s: map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
+      "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json\n",
       run_dir.string().c_str());
   std::printf("total     %.1f s\n", seconds_since(start));
 }
