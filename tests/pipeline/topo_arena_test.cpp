@@ -2,8 +2,10 @@
 // ground-truth labels: no edge of the tree or the roadmap crosses a true wall
 // (exact geometry, not Embree) in the default, building and random arenas;
 // ramp feet and tops stand off the slope; routes reach what they should and
-// report why they cannot reach the rest.
+// report why they cannot reach the rest; the maps do not depend on the
+// thread count.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +14,11 @@
 
 #include "engine/eval/truth_paths.hpp"
 #include "engine/pipeline/mapper.hpp"
+#include "engine/segments/segment_files.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/random_arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "engine/topo/graph_files.hpp"
 #include "engine/topo/route_planner.hpp"
 
 namespace sarmap {
@@ -138,6 +142,18 @@ TEST(TopoArena, RampLeadsOntoAPlatform) {
     EXPECT_TRUE(mid.x() > 1.4 && mid.x() < 2.6 && mid.y() > 1.0 && mid.y() < 2.0) << e.a << "-" << e.b;
   }
   EXPECT_GE(climbs, 1u);
+}
+
+TEST(TopoArena, SameMapsOnOneAndTwoThreads) {
+  const sim::Arena arena = sim::load_arena(std::string(SARMAP_SOURCE_DIR) + "/tests/pipeline/data/ramp_to_platform.json");
+  auto build = [&arena](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const auto mapper = map_arena(arena, 2);
+    return std::make_pair(segments::segments_json(mapper->segment_map()), topo::graph_json(mapper->topo_map()));
+  };
+  const auto one = build(1), two = build(2);
+  EXPECT_EQ(one.first, two.first);
+  EXPECT_EQ(one.second, two.second);
 }
 
 // Accuracy and coverage cases: the release build runs them, the sanitizer builds skip them.
