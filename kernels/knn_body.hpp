@@ -235,7 +235,7 @@ void exact_row_near(const detail::KnnArgs& q, const float* a_scaled_row, double 
 // knn_rows_impl the selection code's constants stay live across the
 // accumulation, and with AVX2's 16 registers the compiler then kept three of
 // the twelve accumulators on the stack, which made every step of the 64-d
-// loop wait on a store (a fifth of the 64-d kernel's time, by perf).
+// loop wait on a store.
 template <class Arch, int R>
 __attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t dim, const float* panel,
                                            const float* norms, float (&tile)[R][2 * Batch<Arch>::size]) {
@@ -260,8 +260,8 @@ __attribute__((noinline)) void ranked_tile(const float* a_scaled, std::size_t di
 // One row of a tile: its centred coordinates times -2 into a_scaled, the
 // tile's box [lo, hi] widened to hold it (set to it for the first row), and
 // its squared norm in double, returned. Across the vector lanes, since this
-// ran once per row and dimension in scalar code and was a tenth of the 64-d
-// kernel; the norm is summed in kNormLanes partial sums (any order is
+// runs once per row and dimension and in scalar code showed in the 64-d
+// kernel's profile; the norm is summed in kNormLanes partial sums (any order is
 // within the allowance its users add for rounding).
 template <class Arch>
 inline double set_up_row(const float* src, const float* centre, std::size_t dim, bool first_row, float* a_scaled,
@@ -355,7 +355,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         found[r] = 0;
         threshold[r] = kInf;
         // Only the sentinel and the `chunks` vectors in use: clearing all
-        // kListLanes slots per row was 7 % of the 64-d kernel.
+        // kListLanes slots per row showed in the 64-d kernel's profile.
         std::fill_n(list[r], KL, std::numeric_limits<std::int64_t>::min());
         std::fill_n(list[r] + KL, chunks * KL, kNoKey);
       }
@@ -517,7 +517,7 @@ void knn_rows_impl(const detail::KnnArgs& q, std::size_t begin, std::size_t end)
         // than twice that are already in exact order; only runs of
         // candidates closer than that are ranked by exact distance (most
         // runs are single candidates, and computing every candidate's exact
-        // distance was a tenth of the 64-d kernel). A non-finite allowance
+        // distance showed in the 64-d kernel's profile). A non-finite allowance
         // (non-finite input) makes one run of all.
         const float* self = point(row_id[r]);
         const double row_reach = static_cast<double>(q.max_radius) + std::sqrt(row_norm[r]);

@@ -14,8 +14,9 @@ inline constexpr std::size_t kKnnMaxCount = std::size_t{1} << 24;
 // rounding (about 1e-7 of |a|^2) can swap near-equal neighbours; the final k
 // are chosen among them by exact differences in double. A row is redone
 // exactly when the last candidate is not provably farther than the k-th
-// (near or exact ties, e.g. a sparse block's repeated points: 0.6 % of rows
-// in the demo's blocks; 3.9 % with 4 extra, 0.007 % with 16).
+// (near or exact ties, e.g. a sparse block's repeated points). Eight keep
+// such rows rare on real blocks, where four redid several times as many
+// (docs/perf-history.md).
 inline constexpr std::size_t kKnnExtra = 8;
 
 // Up to this many dimensions, a tile of rows computes its box's distance to
@@ -28,9 +29,8 @@ inline constexpr std::size_t kKnnGapsUpFrontMaxPanels = 1024;
 // Above that many dimensions, a tile first tests a group of
 // kKnnPanelsPerGroup consecutive panels by their common box, once, and skips
 // the whole group when it is too far: most panels a tile tests are far (64-d
-// on AVX2, whose narrower panels make 256 of a 4096-point block: 174 k panel
-// tests per kNN became 22 k group and 61 k panel tests, about 1.5 % of the
-// kernel's time). Only for clouds of at most
+// on AVX2 above all, whose narrower panels make 256 of a 4096-point block).
+// Only for clouds of at most
 // kKnnMaxGroupedPanels panels (a tile keeps a bit per group on its stack).
 inline constexpr std::size_t kKnnPanelsPerGroup = 8;
 inline constexpr std::size_t kKnnMaxGroupedPanels = 16384;

@@ -2,9 +2,9 @@
 // knn_candidate_list.hpp) built across the vector lanes and sorted by a
 // bitonic network into the row's still empty list. The first panel a tile
 // visits is its own, where every lane passes (the list is not full yet), and
-// inserting its lanes one at a time was over a third of all insertions in the
-// 64-d kernel, each waiting on the one before; the network needs about a third
-// of the instructions and has no such chain. AVX2 and AVX-512 only (a panel
+// inserting its lanes one at a time made many of the 64-d kernel's
+// insertions, each waiting on the one before; the network needs fewer
+// instructions and has no such chain. AVX2 and AVX-512 only (a panel
 // is 16 or 32 keys, four vectors of either); SSE4.2 inserts one at a time.
 // Included only by the per-instruction-set kNN files (internal linkage, see
 // microkernel.hpp).

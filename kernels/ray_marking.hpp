@@ -42,7 +42,7 @@ std::size_t mark_ray_cells_reference(const double start[3], const double* ends, 
 // grid of blocks, block (first_block + (i, j, k)) owning the 8 words from
 // words[8 * (i + blocks[0] * (j + blocks[1] * k))]. Within a block the word is
 // the cell's z and the bit x + 8 y, the same layout as the sink's masks. No
-// look-up per block, which makes it about twice as fast (PERF.md); the grid
+// look-up per block, which makes it much faster (docs/perf-history.md); the grid
 // must hold every cell of the walks (the blocks of start and of every end)
 // and have fewer than 2^31 words.
 struct DenseMaskGrid {

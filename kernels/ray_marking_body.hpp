@@ -47,8 +47,9 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
 // from the call's rays in the order 0, stretch, 2 stretch, ..., 1,
 // stretch + 1, ... (N stretches). Consecutive rays (neighbouring pixels) run
 // nearly parallel; as neighbouring lanes they would mark the same mask word
-// in the same step, each OR waiting for the one before (with float lanes,
-// marking became half of the walk; this order cut the walk by 8 %, PERF.md).
+// in the same step, each OR waiting for the one before (with float lanes
+// marking is a large part of the walk; this order's A/B is in
+// docs/perf-history.md).
 template <std::size_t N>
 class RayStage {
  public:
@@ -147,9 +148,9 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
     if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
       // Straight into the registers: an expanding load per field puts the
       // next rays into the masked lanes, in order. With 16 lanes a lane
-      // changes ray every few steps; the trip of the whole state through
-      // memory that AVX2 takes below made the walk 25-27 ms instead of
-      // 19-20 (PERF.md).
+      // changes ray every few steps, and the trip of the whole state through
+      // memory that AVX2 takes below made the walk measurably slower
+      // (docs/perf-history.md).
       const auto m = static_cast<__mmask16>(fill), park = static_cast<__mmask16>(lanes & ~fill);
 #pragma GCC unroll 21
       for (int f = 0; f < Stage::kFields; ++f) {

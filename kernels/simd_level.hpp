@@ -18,9 +18,9 @@ bool simd_level_supported(SimdLevel level);
 
 // The level the kernels use: the preferred supported one unless forced with
 // set_simd_level() or the SARMAP_SIMD environment variable (sse4_2, avx2, avx512).
-// Preference by measurement (bench/kernels, bench/semantic): on the Sapphire
-// Rapids machine sarmap is measured on, the AVX-512 kernels beat the AVX2 ones
-// in the same run (GEMM ~1.4x, EdgeConv ~2x, whole network ~1.2x).
+// Preference by measurement (bench/kernels, bench/semantic): on every
+// machine with both that sarmap has been measured on, the AVX-512 kernels
+// beat the AVX2 ones in the same run (PERF.md).
 SimdLevel active_simd_level();
 
 // Forces a level for the whole process; returns false (and changes nothing)

@@ -59,7 +59,7 @@ void hilbert_indices(std::uint32_t (&x)[3][kLanes], std::uint32_t (&code)[kLanes
 // Sorts keys[0..count) by their bits 32..61 (the codes), stably, so equal
 // codes keep the index order of the low bits; a least-significant-digit radix
 // sort, three passes of 10 bits, through `spare` (count more keys). Returns
-// where the sorted keys are. std::sort was about a third of spatial_order().
+// where the sorted keys are. std::sort was a large part of spatial_order().
 std::uint64_t* sort_by_code(std::uint64_t* keys, std::uint64_t* spare, std::size_t count) {
   constexpr int kDigitBits = 10;
   constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;

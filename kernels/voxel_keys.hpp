@@ -1,6 +1,6 @@
 // The voxel of every point as one packed 64-bit key: the first step of ray
 // integration (end-voxel dedupe), vectorised because it runs once per point
-// and its floors and conversions were a third of that pass. A key packs
+// and its floors and conversions were much of that pass. A key packs
 // floor(coordinate * inv_resolution) per axis into 21 bits each (x lowest,
 // offset by 2^20); a point with a coordinate beyond +-max_coordinate or not
 // finite gets kRejectedVoxelKey instead, which no voxel packs to. The

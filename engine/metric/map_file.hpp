@@ -7,7 +7,7 @@
 //     i16 log_odds + i16 evidence[6] (voxel index x + 8y + 64z)
 //   | u32 CRC-32 (zlib) of every byte before it.
 // The format lives in engine/metric rather than engine/io because it is the
-// map's own layout and io may not depend on metric (ARCHITECTURE's arrows);
+// map's own layout and io may not depend on metric (docs/architecture.md);
 // it writes through io's AtomicFileWriter.
 #pragma once
 

@@ -84,8 +84,8 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
   };
   if (threads <= 1) {
     // Nothing to overlap with one thread, and a scan's update is faster
-    // right after its rays, while they are in cache (overlapped, 1 thread
-    // measured 220 -> 270 ms for 160 scans at 0.05 m).
+    // right after its rays, while they are in cache (overlapping them on one
+    // thread measured slower: docs/perf-history.md).
     for (std::size_t k = 0; k < scans.size(); ++k) {
       try {
         stats[k] = integrate(map, scans[k].points, scans[k].origin);

@@ -210,7 +210,7 @@ void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolu
   end_is_hit_.assign(end_keys.size(), 1);
   if (settings.discretize) {
     // One ray per end voxel, to its centre, computed in parallel (serially,
-    // this loop was a few per cent of a 2-thread run, the other thread idle),
+    // the other thread of a 2-thread run sat idle through it),
     // then the voxels without a ray (beyond range, not clearing) squeezed out.
     rays_.resize(end_keys.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
@@ -248,9 +248,9 @@ void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats)
     dense_dirty_ = true;
     // About 16-32 ranges per scan, of at least 256 rays: the SIMD lanes
     // drain at the end of every call, so short calls leave lanes idle (64
-    // rays measured 4-8 % slower at 1 thread), but with fewer than about ten
-    // ranges two threads got uneven shares (auto_partitioner made 5-8 of
-    // 630-1024 rays at 0.05 m).
+    // rays measured slower at 1 thread), but with fewer than about ten
+    // ranges two threads got uneven shares (auto_partitioner made too few
+    // ranges at 0.05 m).
     const std::size_t grain = std::max<std::size_t>(512, (rays_.size() + 15) / 16);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), grain),
                       [&](const tbb::blocked_range<std::size_t>& range) {

@@ -67,8 +67,8 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   hit_block_.clear();
   if (const auto& box = rays.dense_box()) {
     // Every hit is a ray's end, so its block is in the box: found by its
-    // place in the grid rather than by hashing (once per hit, a few per cent
-    // of the integrator's time). The bounds are checked all the same.
+    // place in the grid rather than by hashing once per hit. The bounds are
+    // checked all the same.
     const auto offset = [&](std::int32_t block, int axis) {
       return static_cast<std::uint32_t>(block - box->first_block[axis]);
     };

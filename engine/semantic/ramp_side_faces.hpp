@@ -13,7 +13,7 @@
 // between min_rise and max_rise above it. Deck is what the network labelled
 // inclined ramp on a plane gentle enough to be one. The network calls some
 // side faces other (the side of a box) instead: those points become ramp
-// the same way (held-out inclined IoU 83.1 -> 83.9 at stride 1.0, PERF.md).
+// the same way (its A/B: docs/perf-history.md).
 //
 // A camera low beside a ramp sees its side but rarely the deck above, so the
 // decks are remembered across a sequence's scans: RampDeckMemory keeps, per

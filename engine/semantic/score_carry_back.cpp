@@ -79,7 +79,7 @@ std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block
     if (sample_cell[s] != kNone) items[fill[sample_cell[s]]++] = static_cast<std::uint32_t>(s);
   }
   // Each point's search is independent and writes only its own entry, so
-  // the points are split over threads (it was a tenth of a whole run, serial).
+  // the points are split over threads (serial, it showed in a whole run's time).
   const auto search = [&](std::size_t i) {
     const std::uint32_t p = block.points[i];
     const long long cx = cell_of(points.x()[p], block.origin_x), cy = cell_of(points.y()[p], block.origin_y);

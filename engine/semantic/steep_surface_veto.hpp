@@ -1,8 +1,9 @@
 // A check of the network's inclined-ramp labels against the surface they lie
-// on. The DGCNN sees one 1 m block at a time; with the camera pitched down
-// and walls at the edge of its range, only a wall's lowest band is in view
-// and the network can take that band for a ramp (in held-out arenas 9002 and
-// 9005 a quarter of the wall points). The arenas' inclined ramps are 10-25
+// on. The DGCNN sees one block at a time (the model's block size, from its
+// metadata); with the camera pitched down and walls at the edge of its
+// range, only a wall's lowest band is in view and the network can take that
+// band for a ramp (most of all in the held-out arenas with the steepest
+// camera, 9002 and 9005). The arenas' inclined ramps are 10-25
 // degrees, so a surface fitted over a neighbourhood wider than a block's
 // detail and steeper than min_slope_deg cannot be one: such points become
 // wall, or other where the network scored other above wall.

@@ -1,9 +1,9 @@
 // Wall feet: floor points at the base of a wall, which the network calls
 // wall. Where the floor meets a wall, the floor's last few centimetres and
-// the wall's lowest ones lie in the same block and look alike; in held-out
-// arenas about one floor point in a hundred was labelled wall this way, all
-// at the floor's height (checked on the merged clouds: 5,038 of them, half
-// within 5 mm of a wall point, nearly all within 3 cm). A point at the
+// the wall's lowest ones lie in the same block and look alike, and the
+// network labels some of those floor points wall: all of them at the
+// floor's height, within a few centimetres of the wall (how many, and how
+// the tolerance was chosen: docs/perf-history.md). A point at the
 // floor's height is floor whatever stands next to it, so a point
 // labelled wall no higher than `tolerance` above the floor around it becomes
 // terrain. The floor around a point is the mean height of the points the
