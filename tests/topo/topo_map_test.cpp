@@ -92,7 +92,9 @@ TEST(TopoMap, NodesStandOnTheLatticeClearOfWallsAndDrops) {
       nudged += (n.position.head<2>() - lattice).norm() > 1e-9;
     }
     for (const TopoNode& m : t.nodes()) {
-      if (m.id != n.id) EXPECT_GT((m.position - n.position).norm(), 0.75 / 3) << n.id << " " << m.id;
+      if (m.id != n.id) {
+        EXPECT_GT((m.position - n.position).norm(), 0.75 / 3) << n.id << " " << m.id;
+      }
     }
   }
   EXPECT_EQ(platform, 1u);
@@ -147,7 +149,9 @@ TEST(RoutePlanner, AcrossTheDoorwayOnEveryGraphAndSearch) {
       EXPECT_NEAR(r.points.back().y(), 2.5, 1e-12);
       // Every step is a drive that passes.
       for (std::size_t i = 1; i < r.points.size(); ++i) {
-        if (g != RouteGraph::Grid) EXPECT_EQ(t.check_drive(r.points[i - 1], r.points[i]).verdict, DriveVerdict::Passes);
+        if (g != RouteGraph::Grid) {
+          EXPECT_EQ(t.check_drive(r.points[i - 1], r.points[i]).verdict, DriveVerdict::Passes);
+        }
       }
       if (g == RouteGraph::Tree) {
         if (tree_cost < 0) tree_cost = r.length;
