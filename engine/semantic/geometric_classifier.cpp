@@ -10,6 +10,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
 
@@ -24,7 +25,8 @@ class SurfaceCaps {
   explicit SurfaceCaps(double column) : inv_column_(1.0 / column) {}
 
   void add(double x, double y, double z, ClassId label) {
-    auto [it, fresh] = caps_.try_emplace(key(cell(x), cell(y)), Cap{static_cast<float>(z), {}});
+    auto [it, fresh] =
+        caps_.try_emplace(grid_keys::column_key(cell(x), cell(y)), Cap{static_cast<float>(z), {}});
     Cap& cap = it->second;
     cap.top = std::max(cap.top, static_cast<float>(z));
     ++cap.votes[static_cast<std::size_t>(label)];
@@ -38,7 +40,7 @@ class SurfaceCaps {
     std::array<std::uint32_t, kClassCount> votes{};
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = caps_.find(key(cx + dx, cy + dy));
+        const auto it = caps_.find(grid_keys::column_key(cx + dx, cy + dy));
         if (it == caps_.end() || it->second.top < z - tolerance) continue;
         for (std::size_t c = 0; c < kClassCount; ++c) votes[c] += it->second.votes[c];
       }
@@ -52,10 +54,9 @@ class SurfaceCaps {
     float top;
     std::array<std::uint32_t, kClassCount> votes;
   };
-  std::int64_t cell(double v) const { return static_cast<std::int64_t>(std::floor(v * inv_column_)); }
-  static std::uint64_t key(std::int64_t cx, std::int64_t cy) {
-    return (static_cast<std::uint64_t>(cx) << 32) ^ (static_cast<std::uint64_t>(cy) & 0xffffffffu);
-  }
+  // Points with a normal lie within the metric map's limits, so their
+  // columns fit the packed key.
+  std::int64_t cell(double v) const { return grid_keys::index(v, inv_column_); }
   double inv_column_;
   std::unordered_map<std::uint64_t, Cap> caps_;
 };

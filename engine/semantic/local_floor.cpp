@@ -6,17 +6,13 @@
 #include <numbers>
 
 #include "engine/core/error.hpp"
+#include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
 
 namespace {
 
 constexpr double kWorldLimit = 10'000.0;  // the metric map's coordinate limit
-constexpr std::int64_t kColumnOffset = std::int64_t{1} << 31;
-
-std::uint64_t pack_column(std::int64_t i, std::int64_t j) {
-  return (static_cast<std::uint64_t>(i + kColumnOffset) << 32) | static_cast<std::uint64_t>(j + kColumnOffset);
-}
 
 bool in_limits(double x, double y, double z) {
   return std::abs(x) <= kWorldLimit && std::abs(y) <= kWorldLimit && std::abs(z) <= kWorldLimit;
@@ -25,8 +21,7 @@ bool in_limits(double x, double y, double z) {
 }  // namespace
 
 std::uint64_t LocalFloor::column_key(double x, double y) const {
-  return pack_column(static_cast<std::int64_t>(std::floor(x * inv_column_)),
-                     static_cast<std::int64_t>(std::floor(y * inv_column_)));
+  return grid_keys::column_key_of(x, y, inv_column_);
 }
 
 LocalFloor::LocalFloor(const PointBuffer& points, const SurfaceNormals& normals, const LocalFloorSettings& settings)
@@ -60,12 +55,11 @@ LocalFloor::LocalFloor(const PointBuffer& points, const SurfaceNormals& normals,
   // The window minimum of every column that holds points, computed once.
   const auto reach = static_cast<std::int64_t>(std::ceil(settings.window * inv_column_));
   for (const auto& [key, top] : column_top_) {
-    const std::int64_t ci = static_cast<std::int64_t>(key >> 32) - kColumnOffset;
-    const std::int64_t cj = static_cast<std::int64_t>(key & 0xffffffffu) - kColumnOffset;
+    const std::int64_t ci = grid_keys::column_x(key), cj = grid_keys::column_y(key);
     float best = std::numeric_limits<float>::infinity();
     for (std::int64_t di = -reach; di <= reach; ++di)
       for (std::int64_t dj = -reach; dj <= reach; ++dj) {
-        const auto it = column_floor_.find(pack_column(ci + di, cj + dj));
+        const auto it = column_floor_.find(grid_keys::column_key(ci + di, cj + dj));
         if (it != column_floor_.end()) best = std::min(best, it->second);
       }
     window_floor_[key] = std::isfinite(best) ? best : static_cast<float>(fallback_);

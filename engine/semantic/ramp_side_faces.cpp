@@ -9,12 +9,12 @@
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
 #include "engine/semantic/finite_points.hpp"
-#include "engine/semantic/horizontal_columns.hpp"
+#include "engine/semantic/grid_keys.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {
 
-using horizontal_columns::in_reach;
+using grid_keys::in_reach;
 
 RampDeckMemory::RampDeckMemory(const RampSideSettings& s) : settings_(s) {
   if (!(s.radius >= 0.01) || !std::isfinite(s.radius)) {
@@ -52,7 +52,8 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
         !(normals.curvature[p] <= settings_.deck_max_curvature) || !in_reach(xs[p], ys[p])) {
       continue;
     }
-    const auto [it, added] = columns_.try_emplace(horizontal_columns::key_of(xs[p], ys[p], inv), HeightSpan{zs[p], zs[p]});
+    const auto [it, added] =
+        columns_.try_emplace(grid_keys::column_key_of(xs[p], ys[p], inv), HeightSpan{zs[p], zs[p]});
     if (!added) {
       it->second.low = std::min(it->second.low, zs[p]);
       it->second.high = std::max(it->second.high, zs[p]);
@@ -66,10 +67,10 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
 // a column's span stands for all its points: cheap, and the rises are loose.
 bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
   const double inv = 1.0 / settings_.radius;
-  const std::int64_t cx = horizontal_columns::index(x, inv), cy = horizontal_columns::index(y, inv);
+  const std::int64_t cx = grid_keys::index(x, inv), cy = grid_keys::index(y, inv);
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
-      const auto it = columns_.find(horizontal_columns::key(cx + dx, cy + dy));
+      const auto it = columns_.find(grid_keys::column_key(cx + dx, cy + dy));
       if (it == columns_.end()) continue;
       if (it->second.high > z + settings_.min_rise && it->second.low <= z + settings_.max_rise) return true;
     }

@@ -8,20 +8,15 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/core/error.hpp"
+#include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
 
 namespace {
 
-// The metric map's coordinate limit (metres from the origin).
+// The metric map's coordinate limit (metres from the origin): cells of
+// 1 cm or more relative to a point within it fit grid_keys::cell_key.
 constexpr double kWorldLimit = 10'000.0;
-// 22 bits per axis around an offset: +-2^21 cells, 2 x kWorldLimit at 1 cm.
-constexpr std::int64_t kAxisOffset = std::int64_t{1} << 21;
-
-std::uint64_t cell_key(std::int64_t i, std::int64_t j, std::int64_t k) {
-  return (static_cast<std::uint64_t>(i + kAxisOffset) << 44) | (static_cast<std::uint64_t>(j + kAxisOffset) << 22) |
-         static_cast<std::uint64_t>(k + kAxisOffset);
-}
 
 // Sums of coordinates relative to a reference point near the cloud, so the
 // covariance does not lose precision far from the world origin.
@@ -112,7 +107,8 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     const std::array<std::int64_t, 3> c{static_cast<std::int64_t>(std::floor((x - rx) * inv)),
                                         static_cast<std::int64_t>(std::floor((y - ry) * inv)),
                                         static_cast<std::int64_t>(std::floor((z - rz) * inv))};
-    const auto [it, inserted] = cell_index.try_emplace(cell_key(c[0], c[1], c[2]), static_cast<std::uint32_t>(sums.size()));
+    const auto [it, inserted] =
+        cell_index.try_emplace(grid_keys::cell_key(c[0], c[1], c[2]), static_cast<std::uint32_t>(sums.size()));
     if (inserted) {
       sums.emplace_back();
       cell_coords.push_back(c);
@@ -132,7 +128,7 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj)
         for (int dk = -1; dk <= 1; ++dk) {
-          const auto it = cell_index.find(cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk));
+          const auto it = cell_index.find(grid_keys::cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk));
           if (it != cell_index.end()) pooled.add(sums[it->second]);
         }
     PlaneFit fit = fit_plane(pooled, settings.min_points);

@@ -11,13 +11,13 @@
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
 #include "engine/semantic/finite_points.hpp"
-#include "engine/semantic/horizontal_columns.hpp"
+#include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
 
 namespace {
 
-using horizontal_columns::in_reach;
+using grid_keys::in_reach;
 
 struct Column {
   std::int64_t cx, cy;
@@ -75,7 +75,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   std::unordered_map<std::uint64_t, ColumnState> columns;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if ((labels[p] != other && labels[p] != wall) || !in_reach(xs[p], ys[p])) continue;
-    ColumnState& column = columns[horizontal_columns::key_of(xs[p], ys[p], inv)];
+    ColumnState& column = columns[grid_keys::column_key_of(xs[p], ys[p], inv)];
     column.holds_other = column.holds_other || labels[p] == other;
   }
   std::vector<Column> patch;
@@ -88,11 +88,11 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     keys.push_back(start);
     bool holds_other = state.holds_other;
     for (std::size_t i = 0; i < keys.size(); ++i) {
-      const std::int64_t cx = horizontal_columns::key_x(keys[i]), cy = horizontal_columns::key_y(keys[i]);
+      const std::int64_t cx = grid_keys::column_x(keys[i]), cy = grid_keys::column_y(keys[i]);
       patch.push_back({cx, cy});
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const auto it = columns.find(horizontal_columns::key(cx + dx, cy + dy));
+          const auto it = columns.find(grid_keys::column_key(cx + dx, cy + dy));
           if (it == columns.end() || it->second.verdict >= 0) continue;
           it->second.verdict = 0;
           holds_other = holds_other || it->second.holds_other;
@@ -112,7 +112,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    if (columns.find(horizontal_columns::key_of(xs[p], ys[p], inv))->second.verdict != 1) continue;
+    if (columns.find(grid_keys::column_key_of(xs[p], ys[p], inv))->second.verdict != 1) continue;
     to_wall.apply(p);
     ++changed;
   }

@@ -9,13 +9,13 @@
 #include "engine/core/error.hpp"
 #include "engine/semantic/class_move.hpp"
 #include "engine/semantic/finite_points.hpp"
-#include "engine/semantic/horizontal_columns.hpp"
+#include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
 
 namespace {
 
-using horizontal_columns::in_reach;
+using grid_keys::in_reach;
 
 // The terrain points of one column: their count and height sum.
 struct FloorSum {
@@ -50,7 +50,7 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
   std::unordered_map<std::uint64_t, FloorSum> floor;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != terrain || !in_reach(xs[p], ys[p])) continue;
-    FloorSum& sum = floor[horizontal_columns::key_of(xs[p], ys[p], inv)];
+    FloorSum& sum = floor[grid_keys::column_key_of(xs[p], ys[p], inv)];
     ++sum.points;
     sum.height_sum += zs[p];
   }
@@ -60,11 +60,11 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != wall || !in_reach(xs[p], ys[p])) continue;
-    const std::int64_t cx = horizontal_columns::index(xs[p], inv), cy = horizontal_columns::index(ys[p], inv);
+    const std::int64_t cx = grid_keys::index(xs[p], inv), cy = grid_keys::index(ys[p], inv);
     FloorSum around;
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = floor.find(horizontal_columns::key(cx + dx, cy + dy));
+        const auto it = floor.find(grid_keys::column_key(cx + dx, cy + dy));
         if (it == floor.end()) continue;
         around.points += it->second.points;
         around.height_sum += it->second.height_sum;
