@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "engine/io/npy.hpp"
-#include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
 namespace {
 

@@ -4,7 +4,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
 namespace sarmap::pipeline {
 

@@ -12,11 +12,11 @@
 #include <string_view>
 
 #include "engine/core/point_buffer.hpp"
-#include "engine/semantic/dgcnn_classifier.hpp"
-#include "engine/semantic/geometric_classifier.hpp"
-#include "engine/semantic/ramp_side_faces.hpp"
-#include "engine/semantic/wall_bands.hpp"
-#include "engine/semantic/wall_feet.hpp"
+#include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
+#include "engine/semantic/geometric/geometric_classifier.hpp"
+#include "engine/semantic/rules/ramp_side_faces.hpp"
+#include "engine/semantic/rules/wall_bands.hpp"
+#include "engine/semantic/rules/wall_feet.hpp"
 
 namespace sarmap::pipeline {
 

@@ -9,9 +9,9 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/npy.hpp"
-#include "engine/semantic/block_features.hpp"
-#include "engine/semantic/block_partition.hpp"
-#include "engine/semantic/block_sampling.hpp"
+#include "engine/semantic/dgcnn/block_features.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
+#include "engine/semantic/dgcnn/block_sampling.hpp"
 
 namespace sarmap {
 namespace {

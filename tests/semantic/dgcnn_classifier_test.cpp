@@ -11,7 +11,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/dgcnn_classifier.hpp"
+#include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 
 namespace sarmap {
 namespace {

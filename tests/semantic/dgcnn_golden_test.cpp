@@ -1,8 +1,8 @@
-// Tests engine/semantic/dgcnn_model.hpp end to end against the golden logits
+// Tests engine/semantic/dgcnn/dgcnn_model.hpp end to end against the golden logits
 // of tools/python/dgcnn_reference.py (float64 PyTorch, random weights with BN
 // statistics measured on a block): C = 6 and C = 9, N = 1024 and 4096, every
 // instruction set, and identical results with 1 and 2 threads.
-#include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

@@ -1,4 +1,4 @@
-// Tests the DGCNN loader's errors (engine/semantic/dgcnn_weights.hpp,
+// Tests the DGCNN loader's errors (engine/semantic/dgcnn/dgcnn_weights.hpp,
 // engine/io/safetensors.hpp, engine/io/npy.hpp): a truncated file, an offset
 // past the end, a wrong dtype, a missing tensor, shapes that do not chain,
 // bad metadata, malformed .npy files. Each message must name the culprit.
@@ -16,7 +16,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/npy.hpp"
 #include "engine/io/safetensors.hpp"
-#include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
 namespace sarmap {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/geometric_classifier.hpp"
+#include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {

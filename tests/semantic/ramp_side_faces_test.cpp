@@ -4,7 +4,7 @@
 // a wall standing above the ramp, a wall far from it, and walls under a
 // steep "deck" or a ridge stay wall; decks are remembered across scans until cleared; bad settings
 // and non-finite points are refused.
-#include "engine/semantic/ramp_side_faces.hpp"
+#include "engine/semantic/rules/ramp_side_faces.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Tests score carry-back (engine/semantic/score_carry_back.hpp): the grid
+// Tests score carry-back (engine/semantic/dgcnn/score_carry_back.hpp): the grid
 // nearest-sample search against brute force, a hand-built block, and averaging
 // over overlapping blocks.
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/semantic/block_partition.hpp"
-#include "engine/semantic/block_sampling.hpp"
-#include "engine/semantic/score_carry_back.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
+#include "engine/semantic/dgcnn/block_sampling.hpp"
+#include "engine/semantic/dgcnn/score_carry_back.hpp"
 
 namespace sarmap {
 namespace {

@@ -2,7 +2,7 @@
 // band labelled ramp becomes wall (or other where other scored higher), real
 // ramps and other classes are left alone, the slope limit is where it says,
 // and bad settings are refused.
-#include "engine/semantic/steep_surface_veto.hpp"
+#include "engine/semantic/rules/steep_surface_veto.hpp"
 
 #include <gtest/gtest.h>
 

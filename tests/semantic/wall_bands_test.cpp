@@ -3,7 +3,7 @@
 // other, even with sides labelled wall; length is measured along the
 // patch's own axis and the limit is where it says; other labels alone are
 // touched; bad settings and non-finite points are refused.
-#include "engine/semantic/wall_bands.hpp"
+#include "engine/semantic/rules/wall_bands.hpp"
 
 #include <gtest/gtest.h>
 

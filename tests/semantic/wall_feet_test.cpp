@@ -3,7 +3,7 @@
 // the wall above the floor stays wall; the tolerance is where it says and is
 // measured from the mean floor, not its lowest point; without terrain around
 // nothing changes; bad settings and non-finite points are refused.
-#include "engine/semantic/wall_feet.hpp"
+#include "engine/semantic/rules/wall_feet.hpp"
 
 #include <gtest/gtest.h>
 

@@ -99,7 +99,7 @@ def model_from_tensors(tensors, k=20):
 
 
 def block_features(xyz, rgb, cell_origin, block_size, z_min, z_max):
-    """The one definition of a block's input features (C++: engine/semantic/block_features.cpp).
+    """The one definition of a block's input features (C++: engine/semantic/dgcnn/block_features.cpp).
 
     xyz (M, 3) world coordinates, rgb (M, 3) in [0, 255] or None. Returns
     (M, 6) = [x - cx, y - cy, z, nx, ny, nz] or, with rgb, (M, 9) =

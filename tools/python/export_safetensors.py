@@ -25,7 +25,7 @@ _DTYPES = {
 }
 
 # The normalisation every sarmap model is trained with (see block_features in
-# dgcnn_reference.py and engine/semantic/block_features.hpp): x and y relative
+# dgcnn_reference.py and engine/semantic/dgcnn/block_features.hpp): x and y relative
 # to the block's own cell, z over a fixed height range in the world frame.
 DEFAULT_METADATA = {
     "sarmap.k": "20",

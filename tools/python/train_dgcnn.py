@@ -54,7 +54,7 @@ class Blocks:
         count = hi - lo
         if count >= points:
             pick = rng.choice(count, points, replace=False)
-        else:  # every point once, then random repeats (engine/semantic/block_sampling.hpp)
+        else:  # every point once, then random repeats (engine/semantic/dgcnn/block_sampling.hpp)
             pick = np.concatenate([np.arange(count), rng.integers(0, count, points - count)])
         xyz = self.points[lo + pick].astype(np.float64)
         origin = self.origins[b]

@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 # Training data for sarmap's DGCNN: simulates procedurally generated arenas
 # with `sarmap simulate --random SEED` (sensor noise and dropout included),
-# cuts every n-th frame into the same 1 m cells the C++ engine uses
-# (engine/semantic/block_partition.hpp: a grid fixed in the world frame,
-# cells with fewer than min_points points dropped) and stores each kept
-# block's world points and ground-truth labels.
+# cuts every n-th frame into square cells of --block-size (1 m by default;
+# the shipped model's are 1.5 m) on a grid fixed in the world frame, as the
+# C++ engine's blocks (engine/semantic/dgcnn/block_partition.hpp), drops
+# cells with fewer than min_points points and stores each kept block's world
+# points and ground-truth labels (docs/training.md).
 #
 # Features are NOT computed here: train_dgcnn.py draws the block's points
 # afresh every epoch and computes features with dgcnn_reference.block_features,

@@ -1,4 +1,4 @@
-#include "engine/semantic/wall_bands.hpp"
+#include "engine/semantic/rules/wall_bands.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,9 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/class_move.hpp"
-#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/grid_keys.hpp"
+#include "engine/semantic/rules/class_move.hpp"
+#include "engine/semantic/rules/finite_points.hpp"
 
 namespace sarmap {
 

@@ -1,4 +1,4 @@
-#include "engine/semantic/wall_feet.hpp"
+#include "engine/semantic/rules/wall_feet.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -7,9 +7,9 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/class_move.hpp"
-#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/grid_keys.hpp"
+#include "engine/semantic/rules/class_move.hpp"
+#include "engine/semantic/rules/finite_points.hpp"
 
 namespace sarmap {
 

@@ -1,5 +1,5 @@
 // Loading and shape-checking the DGCNN layers (see dgcnn_weights.hpp).
-#include "engine/semantic/dgcnn_weights.hpp"
+#include "engine/semantic/dgcnn/dgcnn_weights.hpp"
 
 #include "engine/core/error.hpp"
 

@@ -1,4 +1,4 @@
-#include "engine/semantic/steep_surface_veto.hpp"
+#include "engine/semantic/rules/steep_surface_veto.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/class_move.hpp"
+#include "engine/semantic/rules/class_move.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {

@@ -1,5 +1,5 @@
 // Parsing and writing the "sarmap.*" model metadata (see dgcnn_metadata.hpp).
-#include "engine/semantic/dgcnn_metadata.hpp"
+#include "engine/semantic/dgcnn/dgcnn_metadata.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Nearest-sample search on a 2-D grid of the block's samples, searched in
 // growing rings until no unvisited cell can hold anything nearer.
-#include "engine/semantic/score_carry_back.hpp"
+#include "engine/semantic/dgcnn/score_carry_back.hpp"
 
 #include <algorithm>
 #include <cmath>

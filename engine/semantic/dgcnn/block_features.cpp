@@ -1,6 +1,6 @@
 // Per-block DGCNN features, computed in double and rounded once to float like
 // the Python reference (numpy float64 then astype("<f4")).
-#include "engine/semantic/block_features.hpp"
+#include "engine/semantic/dgcnn/block_features.hpp"
 
 #include <string>
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engine/core/point_buffer.hpp"
-#include "engine/semantic/block_partition.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
 
 namespace sarmap {
 

@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "engine/semantic/dgcnn_metadata.hpp"
-#include "engine/semantic/dgcnn_weights.hpp"
-#include "engine/semantic/dgcnn_workspace.hpp"
+#include "engine/semantic/dgcnn/dgcnn_metadata.hpp"
+#include "engine/semantic/dgcnn/dgcnn_weights.hpp"
+#include "engine/semantic/dgcnn/dgcnn_workspace.hpp"
 #include "kernels/packed_matrix.hpp"
 #include "kernels/simd_level.hpp"
 

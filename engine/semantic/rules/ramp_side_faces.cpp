@@ -1,4 +1,4 @@
-#include "engine/semantic/ramp_side_faces.hpp"
+#include "engine/semantic/rules/ramp_side_faces.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/class_move.hpp"
-#include "engine/semantic/finite_points.hpp"
 #include "engine/semantic/grid_keys.hpp"
+#include "engine/semantic/rules/class_move.hpp"
+#include "engine/semantic/rules/finite_points.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {

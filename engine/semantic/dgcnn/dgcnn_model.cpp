@@ -1,6 +1,6 @@
 // Building the runnable DGCNN from its layers and the forward pass (see
 // dgcnn_model.hpp). Data are point-major: one row of channels per point.
-#include "engine/semantic/dgcnn_model.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Block membership by integer cell ranges per point; an ordered map keeps the
 // block order (and so every later seed) independent of how it was built.
-#include "engine/semantic/block_partition.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
 
 #include <algorithm>
 #include <cmath>

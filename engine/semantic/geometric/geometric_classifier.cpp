@@ -1,4 +1,4 @@
-#include "engine/semantic/geometric_classifier.hpp"
+#include "engine/semantic/geometric/geometric_classifier.hpp"
 
 #include <algorithm>
 #include <array>

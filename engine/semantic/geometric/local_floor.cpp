@@ -1,4 +1,4 @@
-#include "engine/semantic/local_floor.hpp"
+#include "engine/semantic/geometric/local_floor.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -20,7 +20,7 @@
 #include <cstddef>
 
 #include "engine/core/point_buffer.hpp"
-#include "engine/semantic/local_floor.hpp"
+#include "engine/semantic/geometric/local_floor.hpp"
 #include "engine/semantic/surface_normals.hpp"
 
 namespace sarmap {

@@ -1,6 +1,6 @@
 // Blocks run in parallel (one workspace per thread); their scores are then
 // accumulated serially in block order so the result is thread-count independent.
-#include "engine/semantic/dgcnn_classifier.hpp"
+#include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,10 +14,10 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/semantic/block_features.hpp"
-#include "engine/semantic/block_partition.hpp"
-#include "engine/semantic/block_sampling.hpp"
-#include "engine/semantic/score_carry_back.hpp"
+#include "engine/semantic/dgcnn/block_features.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
+#include "engine/semantic/dgcnn/block_sampling.hpp"
+#include "engine/semantic/dgcnn/score_carry_back.hpp"
 
 namespace sarmap {
 

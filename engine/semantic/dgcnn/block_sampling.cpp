@@ -1,6 +1,6 @@
 // A self-contained SplitMix64 generator, so samples are identical across
 // standard libraries (std::shuffle and distributions are not specified bit-exactly).
-#include "engine/semantic/block_sampling.hpp"
+#include "engine/semantic/dgcnn/block_sampling.hpp"
 
 #include <cstddef>
 #include <numeric>

@@ -6,8 +6,8 @@
 #include <cstdint>
 
 #include "engine/core/point_buffer.hpp"
-#include "engine/semantic/dgcnn_model.hpp"
-#include "engine/semantic/steep_surface_veto.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
+#include "engine/semantic/rules/steep_surface_veto.hpp"
 
 namespace sarmap {
 
