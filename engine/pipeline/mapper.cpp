@@ -24,6 +24,12 @@ void add_counts(StageProfile& profile, std::string_view stage,
   for (const auto& [name, value] : counts) profile.add_count(stage, name, value);
 }
 
+segments::SegmentSettings segment_settings(const MapperConfig& c, const SensorInfo& sensor) {
+  segments::SegmentSettings s = c.segments;
+  if (sensor.type == SensorType::Lidar) s.max_range = c.segment_max_range_lidar;
+  return s;
+}
+
 metric::IntegratorSettings integrator_settings(const MapperConfig& c, const SensorInfo& sensor) {
   metric::IntegratorSettings s = c.integrator;
   s.max_range = c.max_range > 0 ? c.max_range : sensor.max_range;
@@ -37,7 +43,7 @@ Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
       map_(map_settings(config)),
       integrator_(integrator_settings(config, sensor)),
       classifier_(make_point_classifier(config.classifier)),
-      segments_(config.segments),
+      segments_(segment_settings(config, sensor)),
       topo_(config.topo) {
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");

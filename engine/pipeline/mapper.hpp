@@ -35,8 +35,11 @@ struct MapperConfig {
   metric::MapBounds bounds;
   // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
   double semantic_points_voxel = 0.05;
-  // Planar segments of the classified points (segment stage).
+  // Planar segments of the classified points (segment stage). Its max_range
+  // (3 m) suits depth cameras, whose noise grows with the square of the range;
+  // for a LiDAR the stage uses segment_max_range_lidar instead (0: no limit).
   segments::SegmentSettings segments;
+  double segment_max_range_lidar = 0.0;
   // The topological map and its planners (topo stage).
   topo::TopoSettings topo;
 };
