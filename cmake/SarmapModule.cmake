@@ -1,6 +1,6 @@
 # sarmap_add_module(NAME SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 # Each engine module is its own static library (sarmap_NAME), so the arrows of
-# ARCHITECTURE.md are enforced by the link graph and a module's tests build
+# docs/architecture.md are enforced by the link graph and a module's tests build
 # only what it depends on. sarmap::sarmap links them all.
 function(sarmap_add_module name)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})

@@ -32,8 +32,8 @@ enum class BoxFaces { All, NoBottom };
 ClassedMesh box_mesh(const OrientedBox& box, BoxFaces faces = BoxFaces::All);
 
 // The same triangles appended to `mesh`: many boxes of one class (a map's
-// walls) as one mesh, which a TriangleScene builds up to 5x faster than one
-// mesh per box (bench/geometry/segment_occlusion_bench.cpp).
+// walls) as one mesh, which a TriangleScene builds much faster than one mesh
+// per box (figures in PERF.md, bench/geometry/segment_occlusion_bench.cpp).
 void append_box(ClassedMesh& mesh, const OrientedBox& box, BoxFaces faces = BoxFaces::All);
 
 }  // namespace sarmap::geometry

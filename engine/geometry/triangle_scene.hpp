@@ -23,9 +23,9 @@ enum class RayBatchMode { Single, Packet16 };
 
 // Embree's BVH build quality. High suits a scene built once and traced
 // millions of times (the simulator's). Low (a Morton build) suits a scene
-// rebuilt for each batch of queries, as the topological map's wall scene: on
-// 1k walls merged into one mesh it builds 2.5-3x faster than Medium or High
-// and answers 10k segments as fast (bench/geometry).
+// rebuilt for each batch of queries, as the topological map's wall scene: it
+// builds several times faster than Medium or High and answers as fast
+// (PERF.md, bench/geometry).
 enum class BuildQuality { Low, Medium, High };
 
 // Every query is const and thread-safe: many threads may trace one scene.
@@ -64,9 +64,8 @@ class TriangleScene {
   // (InvalidArgument) when the spans differ in size, and, naming the lowest
   // such index, for an endpoint that is not finite (InvalidArgument) or
   // beyond kMaxSceneCoordinate (OutOfRange); `blocked` is then unspecified.
-  // Packets of 16 are the default: on random edges they answered 0-45 %
-  // faster than single rays, never slower, at every size measured
-  // (bench/geometry).
+  // Packets of 16 are the default: on random edges they were never slower
+  // than single rays at any size measured (bench/geometry).
   void segments_blocked(std::span<const Segment> segments, std::span<std::uint8_t> blocked,
                         RayBatchMode mode = RayBatchMode::Packet16) const;
 

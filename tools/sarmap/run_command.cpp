@@ -1,6 +1,7 @@
 // `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
-// builds the maps scan by scan through the pipeline's Mapper and writes map.sarmap, map.bt, voxels.ply,
-// semantic_points.ply, segments.json, segments.ply, manifest.json and profile.json, each atomically.
+// builds the maps scan by scan through the pipeline's Mapper and writes every output (map.sarmap, map.bt,
+// voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*, manifest.json, profile.json; docs/formats.md),
+// each atomically.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>

@@ -20,7 +20,7 @@ struct RunOptions {
   std::filesystem::path model;        // dgcnn; empty: the shipped ramp model
   // dgcnn: sparser blocks are left unknown. Lower than `sarmap classify`'s 500:
   // one depth frame leaves many blocks at its edges with a few hundred points,
-  // and the network labels them well (held-out terrain IoU 77 % -> 94 % at 100).
+  // and the network labels them well (the held-out figures: docs/perf-history.md).
   std::size_t min_block_points = 100;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = three quarters of the model's block size
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
