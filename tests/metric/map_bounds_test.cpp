@@ -1,7 +1,6 @@
 // Map bounds: which blocks the radius and the block budget drop (exact, on
-// blocks placed by hand), that equal distances are broken the same way
-// whatever the hash order, and that the Mapper keeps a bounded map while
-// still mapping what is near the sensor.
+// blocks placed by hand), and that equal distances are broken the same way
+// whatever the hash order. (The Mapper's use of them: tests/pipeline/mapper_test.cpp.)
 #include "engine/metric/map_bounds.hpp"
 
 #include <gtest/gtest.h>
@@ -13,8 +12,6 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/pipeline/mapper.hpp"
-#include "tests/metric/synthetic_room.hpp"
 
 namespace sarmap::metric {
 namespace {
@@ -70,47 +67,6 @@ TEST(MapBounds, RejectsABadRadius) {
     MapBounds bounds;
     bounds.keep_radius = radius;
     EXPECT_THROW(validate(bounds), Error);
-    pipeline::MapperConfig config;
-    config.classifier.kind = "labels";
-    config.bounds = bounds;
-    EXPECT_THROW(pipeline::Mapper mapper(config), Error);
-  }
-}
-
-TEST(MapBounds, MapperKeepsTheMapWithinItsBudgetAndRadius) {
-  testing::SyntheticRoom room;
-  pipeline::MapperConfig unbounded;
-  unbounded.classifier.kind = "labels";
-  pipeline::MapperConfig bounded = unbounded;
-  bounded.bounds.keep_radius = 1.5;
-  bounded.bounds.max_blocks = 60;
-  pipeline::Mapper full(unbounded), small(bounded);
-  Eigen::Vector3d last_origin;
-  for (int f = 0; f < 4; ++f) {
-    auto r = room.frame(f, 4, 128, 96);
-    Scan a, b;
-    a.points = r.points;
-    b.points = r.points;
-    a.origin = b.origin = last_origin = r.origin;
-    full.integrate(a);
-    small.integrate(b);
-    EXPECT_LE(small.metric_map().blocks().block_count(), 60u);
-  }
-  ASSERT_GT(full.metric_map().blocks().block_count(), 60u);
-  EXPECT_GT(small.blocks_dropped(), 0u);
-  EXPECT_GT(small.profile().counter("metric", "blocks_dropped"), 0.0);
-  const double edge = 0.05 * kBlockEdge;
-  small.metric_map().blocks().for_each_block([&](const BlockKey& k, const auto&) {
-    const Eigen::Vector3d c((k.x + 0.5) * edge, (k.y + 0.5) * edge, (k.z + 0.5) * edge);
-    EXPECT_LE((c - last_origin).norm(), 1.5 + 1e-9);
-  });
-  // What is kept near the sensor is mapped as without bounds: the voxels of
-  // the block holding the sensor agree.
-  const VoxelKey here = *full.metric_map().key_at(last_origin);
-  const BlockKey home = block_of(here);
-  for (int local = 0; local < kBlockVoxels; ++local) {
-    const VoxelKey v = voxel_of(home, local);
-    EXPECT_EQ(small.metric_map().state(v), full.metric_map().state(v));
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <set>
 
 #include "engine/core/error.hpp"
@@ -114,6 +115,52 @@ TEST(Mapper, RejectsBadClassifiersAndUnlabelledInput) {
     FAIL() << "an unlabelled scan must be refused by the labels classifier";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("label"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Mapper, RefusesBadMapBounds) {
+  for (double radius : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    MapperConfig config;
+    config.classifier.kind = "labels";
+    config.bounds.keep_radius = radius;
+    EXPECT_THROW(Mapper mapper(config), Error);
+  }
+}
+
+TEST(Mapper, KeepsTheMapWithinItsBoundsBudgetAndRadius) {
+  testing::SyntheticRoom room;
+  MapperConfig unbounded;
+  unbounded.classifier.kind = "labels";
+  MapperConfig bounded = unbounded;
+  bounded.bounds.keep_radius = 1.5;
+  bounded.bounds.max_blocks = 60;
+  Mapper full(unbounded), small(bounded);
+  Eigen::Vector3d last_origin;
+  for (int f = 0; f < 4; ++f) {
+    auto r = room.frame(f, 4, 128, 96);
+    Scan a, b;
+    a.points = r.points;
+    b.points = r.points;
+    a.origin = b.origin = last_origin = r.origin;
+    full.integrate(a);
+    small.integrate(b);
+    EXPECT_LE(small.metric_map().blocks().block_count(), 60u);
+  }
+  ASSERT_GT(full.metric_map().blocks().block_count(), 60u);
+  EXPECT_GT(small.blocks_dropped(), 0u);
+  EXPECT_GT(small.profile().counter("metric", "blocks_dropped"), 0.0);
+  const double edge = 0.05 * metric::kBlockEdge;
+  small.metric_map().blocks().for_each_block([&](const metric::BlockKey& k, const auto&) {
+    const Eigen::Vector3d c((k.x + 0.5) * edge, (k.y + 0.5) * edge, (k.z + 0.5) * edge);
+    EXPECT_LE((c - last_origin).norm(), 1.5 + 1e-9);
+  });
+  // What is kept near the sensor is mapped as without bounds: the voxels of
+  // the block holding the sensor agree.
+  const metric::VoxelKey here = *full.metric_map().key_at(last_origin);
+  const metric::BlockKey home = metric::block_of(here);
+  for (int local = 0; local < metric::kBlockVoxels; ++local) {
+    const metric::VoxelKey v = metric::voxel_of(home, local);
+    EXPECT_EQ(small.metric_map().state(v), full.metric_map().state(v));
   }
 }
 
