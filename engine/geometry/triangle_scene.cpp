@@ -26,6 +26,21 @@ struct TriangleScene::Impl {
 
 namespace {
 
+// Embree asserts (and aborts the process) on a ray it deems invalid: refuse
+// such a ray with an error first.
+void check_ray(const Eigen::Vector3f& origin, const Eigen::Vector3f* direction, float t_near, float t_far) {
+  const bool origin_ok = origin.allFinite() && origin.cwiseAbs().maxCoeff() <= kMaxSceneCoordinate;
+  if (!origin_ok) {
+    throw Error(ErrorCode::OutOfRange, "ray origin (" + std::to_string(origin.x()) + ", " + std::to_string(origin.y()) +
+                                           ", " + std::to_string(origin.z()) + ") is not finite or lies beyond " +
+                                           std::to_string(kMaxSceneCoordinate) + " m");
+  }
+  if (direction != nullptr && !direction->allFinite()) throw Error(ErrorCode::InvalidArgument, "ray direction is not finite");
+  if (!(t_near >= 0) || !(t_far >= t_near)) {
+    throw Error(ErrorCode::InvalidArgument, "ray interval must satisfy 0 <= t_near <= t_far");
+  }
+}
+
 void check_device(RTCDevice device, const char* what) {
   const RTCError e = rtcGetDeviceError(device);
   if (e != RTC_ERROR_NONE) {
@@ -135,6 +150,7 @@ TriangleScene::~TriangleScene() = default;
 
 TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
                                             float t_near, float t_far) const {
+  check_ray(origin, &direction, t_near, t_far);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -154,6 +170,9 @@ void TriangleScene::intersect_batch(const Eigen::Vector3f& origin,
                                     std::span<float> t_out, std::span<std::uint8_t> label_out,
                                     RayBatchMode mode) const {
   constexpr float kMiss = std::numeric_limits<float>::infinity();
+  // Directions are the caller's precomputed unit rays; the origin and
+  // interval are checked once for the batch.
+  check_ray(origin, nullptr, t_near, t_far);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   const std::size_t n = directions.size();

@@ -47,6 +47,10 @@ class TriangleScene {
   };
 
   // First surface along origin + t * direction with t in [t_near, t_far].
+  // Throws sarmap::Error for an origin that is not finite or lies beyond
+  // kMaxSceneCoordinate (OutOfRange), a non-finite direction or an interval
+  // that is not 0 <= t_near <= t_far (InvalidArgument); intersect_batch checks
+  // its origin and interval the same way.
   Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
                 float t_far) const;
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
+#include "engine/geometry/float_limits.hpp"
 #include "engine/sim/mesh_loader.hpp"
 
 namespace sarmap::sim {
@@ -339,6 +340,14 @@ Arena parse_arena(std::string_view json_text, std::string_view source_view,
     b.finish();
     for (int i = 0; i < 3; ++i) {
       if (!(a.bounds_max[i] > a.bounds_min[i])) b.fail("max", "must exceed min on every axis");
+    }
+    // Rays start at the bounds (the trajectory's ground test casts down from
+    // their top): Embree's float rays are refused beyond the scene limit.
+    for (const char* key : {"min", "max"}) {
+      const Eigen::Vector3d& v = std::string_view(key) == "min" ? a.bounds_min : a.bounds_max;
+      if (v.cwiseAbs().maxCoeff() > geometry::kMaxSceneCoordinate) {
+        b.fail(key, "must lie within " + show(geometry::kMaxSceneCoordinate) + " m of the origin on every axis");
+      }
     }
   }
   a.floor = f.boolean("floor");

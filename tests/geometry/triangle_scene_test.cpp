@@ -55,6 +55,22 @@ TEST(TriangleScene, RayIntervalIsRespected) {
   EXPECT_FALSE(scene.intersect({0, 0, 0.5f}, {-1, 0, 0}, 0, 100).hit);
 }
 
+TEST(TriangleScene, RaysEmbreeWouldAbortOnAreErrors) {
+  const TriangleScene scene(wall_and_box());
+  const float huge = 1e19f, inf = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(scene.intersect({0, 0, huge}, {0, 0, -1}, 0, inf), Error);
+  EXPECT_THROW(scene.intersect({0, 0, std::nanf("")}, {0, 0, -1}, 0, inf), Error);
+  EXPECT_THROW(scene.intersect({0, 0, 1}, {0, std::nanf(""), -1}, 0, inf), Error);
+  EXPECT_THROW(scene.intersect({0, 0, 1}, {0, 0, -1}, -1, inf), Error);
+  EXPECT_THROW(scene.intersect({0, 0, 1}, {0, 0, -1}, 2, 1), Error);
+  std::vector<Eigen::Vector3f> directions{{1, 0, 0}};
+  std::vector<float> t(1);
+  std::vector<std::uint8_t> labels(1);
+  EXPECT_THROW(scene.intersect_batch({huge, 0, 0}, directions, 0, inf, t, labels), Error);
+  // A far but valid origin still works.
+  EXPECT_FALSE(scene.intersect({0, 0, 9e4f}, {0, 1, 0}, 0, inf).hit);
+}
+
 TEST(TriangleScene, SingleRaysAndPacketsGiveTheSameHits) {
   const TriangleScene scene(wall_and_box());
   std::mt19937 rng(3);

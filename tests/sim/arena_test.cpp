@@ -102,6 +102,8 @@ TEST(Arena, RejectsEveryMalformedDescription) {
       {"bad version", [](json& j) { j["version"] = 2; }, "version must be 1"},
       {"bounds inverted", [](json& j) { j["bounds"]["max"] = {4, -1, 2}; }, "bounds: max must exceed min"},
       {"bounds short", [](json& j) { j["bounds"]["min"] = {0, 0}; }, "bounds: min must be an array of 3 numbers"},
+      {"bounds far", [](json& j) { j["bounds"]["max"] = {4, 4, 1e19}; }, "bounds: max must lie within 100000 m"},
+      {"bounds far below", [](json& j) { j["bounds"]["min"] = {-2e5, 0, 0}; }, "bounds: min must lie within"},
       {"floor not bool", [](json& j) { j["floor"] = 1; }, "floor must be true or false"},
       {"angle too big", [](json& j) { set_element(j, ramp_with("angle_deg", 95)); },
        "test.json: elements[3] (inclined_ramp): angle_deg must be in (0, 90), got 95"},
