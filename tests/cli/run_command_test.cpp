@@ -274,6 +274,15 @@ TEST_F(RunCommand, MapBoundsLimitTheSavedMap) {
   r = run(" --keep-radius -2", dir_ / "negative");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--keep-radius"), std::string::npos) << r.err;
+  // NaN and infinity name their flag too.
+  for (const char* flag : {"--keep-radius", "--max-range", "--block-stride"}) {
+    for (const char* value : {"nan", "inf"}) {
+      r = run(std::string(" ") + flag + " " + value, dir_ / "not_finite");
+      EXPECT_EQ(r.exit_code, 1) << flag << " " << value;
+      EXPECT_NE(r.err.find(std::string(flag) + " must be a finite number"), std::string::npos) << r.err;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "not_finite"));  // refused before anything is written
 }
 
 TEST_F(RunCommand, TumFolderIsReadWithTheIntrinsicsOption) {

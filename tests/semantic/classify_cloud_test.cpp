@@ -69,6 +69,14 @@ TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
                 err),
             0);
   EXPECT_NE(slurp(err).find("either INPUT"), std::string::npos) << slurp(err);
+  for (const char* stride : {"-1", "nan", "inf"}) {
+    EXPECT_NE(run(kDir + "block_c6_n1024.npy --model " + kDir + "model_c6.safetensors --out /tmp/never.ply --stride " +
+                      stride,
+                  err),
+              0)
+        << stride;
+    EXPECT_NE(slurp(err).find("--stride must be a finite number >= 0"), std::string::npos) << slurp(err);
+  }
   fs::remove(err);
 }
 

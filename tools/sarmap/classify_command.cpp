@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -92,6 +93,9 @@ void run_cloud(const ClassifyOptions& o) {
   const auto limit = thread_limit(o);
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "classify INPUT needs --out OUT.ply|OUT.pcd");
   point_cloud_format_of(o.out);  // reject an unknown output extension before the work
+  if (!(o.stride >= 0) || !std::isfinite(o.stride)) {
+    throw Error(ErrorCode::InvalidArgument, "classify: --stride must be a finite number >= 0");
+  }
   const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
   DgcnnClassifierSettings settings;
   settings.stride = o.stride;

@@ -3,6 +3,7 @@
 // voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*, manifest.json, profile.json; docs/formats.md),
 // each atomically.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -35,7 +36,10 @@ namespace fs = std::filesystem;
 RunSummary run_pipeline(const RunOptions& o) {
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "run: --out DIR is required");
   if (o.threads < 0) throw Error(ErrorCode::InvalidArgument, "run: --threads must be >= 0 (0 = all cores)");
-  if (o.max_range < 0) throw Error(ErrorCode::InvalidArgument, "run: --max-range must be >= 0");
+  // Written as !(x >= 0) with a finiteness test, so NaN and infinity fail too.
+  if (!(o.max_range >= 0) || !std::isfinite(o.max_range)) {
+    throw Error(ErrorCode::InvalidArgument, "run: --max-range must be a finite number >= 0");
+  }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -46,12 +50,16 @@ RunSummary run_pipeline(const RunOptions& o) {
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
-  if (!(o.keep_radius >= 0)) throw Error(ErrorCode::InvalidArgument, "run: --keep-radius must be >= 0");
+  if (!(o.keep_radius >= 0) || !std::isfinite(o.keep_radius)) {
+    throw Error(ErrorCode::InvalidArgument, "run: --keep-radius must be a finite number >= 0");
+  }
   config.bounds.keep_radius = o.keep_radius;
   config.bounds.max_blocks = o.max_blocks;
   config.classifier.kind = o.classifier;
   config.classifier.dgcnn.min_points = o.min_block_points;
-  if (o.block_stride < 0) throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be >= 0");
+  if (!(o.block_stride >= 0) || !std::isfinite(o.block_stride)) {
+    throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be a finite number >= 0");
+  }
   config.classifier.dgcnn.stride = o.block_stride;
   config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
   config.classifier.wall_bands.enabled = o.wall_bands;
