@@ -191,7 +191,9 @@ MetricMap load_map(const std::filesystem::path& path) {
   for (std::uint64_t b = 0; b < count; ++b) {
     const std::size_t at = d.offset();
     const BlockKey key{d.i32(), d.i32(), d.i32()};
-    if (std::abs(key.x) > max_block || std::abs(key.y) > max_block || std::abs(key.z) > max_block) {
+    // In 64 bits: std::abs of INT32_MIN overflows (undefined behaviour).
+    const auto beyond = [max_block](std::int32_t v) { return std::abs(std::int64_t{v}) > max_block; };
+    if (beyond(key.x) || beyond(key.y) || beyond(key.z)) {
       throw fail(at, "block (" + std::to_string(key.x) + ", " + std::to_string(key.y) + ", " +
                          std::to_string(key.z) + ") lies beyond the map limits of +-10 km");
     }

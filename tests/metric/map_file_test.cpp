@@ -3,6 +3,7 @@
 #include "engine/metric/map_file.hpp"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -103,6 +104,18 @@ TEST_F(MapFileTest, CorruptAndTruncatedFilesNameTheProblem) {
   version[8] = 9;
   write_bytes(bad, version);
   EXPECT_NE(load_error(bad).find("unsupported version 9"), std::string::npos);
+
+  // A block key at INT32_MIN behind a valid checksum: refused as beyond the
+  // map's limits (the first block's x sits right after the 96-byte header).
+  std::string far = good;
+  const char int_min[4] = {0, 0, 0, static_cast<char>(0x80)};
+  far.replace(96, 4, int_min, 4);
+  const std::uint32_t crc = static_cast<std::uint32_t>(
+      crc32(0, reinterpret_cast<const Bytef*>(far.data()), static_cast<uInt>(far.size() - 4)));
+  for (int i = 0; i < 4; ++i) far[far.size() - 4 + i] = static_cast<char>((crc >> (8 * i)) & 0xff);
+  write_bytes(bad, far);
+  EXPECT_NE(load_error(bad).find("(-2147483648, "), std::string::npos) << load_error(bad);
+  EXPECT_NE(load_error(bad).find("beyond the map limits"), std::string::npos) << load_error(bad);
 
   EXPECT_NE(load_error(dir_ / "missing.sarmap").find("cannot open"), std::string::npos);
   // Every message names the file.
