@@ -121,6 +121,17 @@ TEST_F(RunCommand, MissingInputIsAnError) {
   EXPECT_FALSE(fs::exists(dir_ / "run" / "map.sarmap"));
 }
 
+TEST_F(RunCommand, AnOutputFolderThatCannotBeMadeIsAnErrorNotACrash) {
+  std::ofstream(dir_ / "a_file") << "not a folder";
+  const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted((dir_ / "a_file" / "run").string()) +
+                             " --classifier labels --quiet",
+                         dir_);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err.rfind("sarmap: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("a_file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+}
+
 TEST_F(RunCommand, UnknownClassifierIsAnError) {
   const auto r = run_cli(
       "run " + quoted(input_.string()) + " --out " + quoted((dir_ / "run").string()) + " --classifier oracle",

@@ -2,6 +2,8 @@
 // sarmap::Error into a message on stderr and a non-zero exit code.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +34,13 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const sarmap::Error& e) {
     std::fprintf(stderr, "sarmap: error: %s\n", e.what());
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder that cannot be made or read is the user's to fix, not a bug.
+    std::fprintf(stderr, "sarmap: error: %s: %s\n", e.path1().string().c_str(), e.code().message().c_str());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "sarmap: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sarmap: internal error: %s\n", e.what());

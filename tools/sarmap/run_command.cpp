@@ -76,6 +76,10 @@ RunSummary run_pipeline(const RunOptions& o) {
   config.semantic_points_voxel = o.voxel;
   pipeline::Mapper mapper(config, source->sensor());
   fs::create_directories(o.out);
+  {
+    // Find out now, not after the whole mapping, that the folder takes no files.
+    AtomicFileWriter probe(o.out / ".sarmap_write_probe");
+  }
 
   ProgressLine progress("run", source->size(), !o.quiet);
   Scan scan;
