@@ -3,14 +3,17 @@
 // tests/data.
 #pragma once
 
+#include <unistd.h>
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
-#include <gtest/gtest.h>
 #include <string>
 #include <type_traits>
+
+#include <gtest/gtest.h>
 
 #include "engine/core/error.hpp"
 #include "engine/core/point_buffer.hpp"
@@ -32,7 +35,8 @@ class ScratchDir {
     for (char& c : unique) {
       if (c == '/') c = '_';
     }
-    path_ = std::filesystem::temp_directory_path() / ("sarmap_" + unique);
+    // The process id too: two suites running at once must not share a folder.
+    path_ = std::filesystem::temp_directory_path() / ("sarmap_" + unique + "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

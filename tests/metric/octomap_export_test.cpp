@@ -148,7 +148,9 @@ TEST(OctomapAgreement, SameScansGiveTheSameStatesOnNinetyNinePercent) {
     }
     ASSERT_GT(either, 10000u);
     const double agreement = static_cast<double>(agree) / static_cast<double>(either);
-    EXPECT_GE(agreement, 0.99) << "resolution " << res << ": " << agree << " of " << either;
+    // Measured 0.9992 at 0.05 m and 0.9971 at 0.10 m (2026-11-26); the
+    // thresholds sit just under, so a regression shows.
+    EXPECT_GE(agreement, res < 0.075 ? 0.998 : 0.995) << "resolution " << res << ": " << agree << " of " << either;
     std::printf("agreement with OctoMap at %.2f m: %.4f (%zu voxels)\n", res, agreement, either);
   }
 }
