@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -123,6 +125,40 @@ TEST(DgcnnLoad, BadMetadataIsNamed) {
   EXPECT_NE(e.find("sarmap.k"), std::string::npos) << e;
   const std::string c = load_error(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp,lava\""));
   EXPECT_NE(c.find("lava"), std::string::npos) << c;
+}
+
+// The model file with one float of a tensor's data replaced (index into the tensor).
+std::vector<std::uint8_t> with_value(const std::string& tensor, std::size_t index, float value) {
+  auto bytes = model_bytes();
+  std::uint64_t len = 0;
+  std::memcpy(&len, bytes.data(), 8);
+  const auto offsets = model_header().at(tensor).at("data_offsets");
+  const std::size_t at = 8 + len + offsets[0].get<std::size_t>() + 4 * index;
+  std::memcpy(bytes.data() + at, &value, 4);
+  return bytes;
+}
+
+// Weights that would make the network write NaN scores, or give every point
+// the same class, are refused at load, naming the tensor.
+TEST(DgcnnLoad, WeightsThatCannotBeATrainedModelAreRefused) {
+  for (const float v : {std::nanf(""), std::numeric_limits<float>::infinity(), 1e38f}) {
+    const std::string e = load_error(with_value("conv3.0.weight", 5, v));
+    EXPECT_NE(e.find("tensor 'conv3.0.weight': value 5"), std::string::npos) << v << ": " << e;
+  }
+  const std::string bn = load_error(with_value("conv2.1.bias", 0, std::nanf("")));
+  EXPECT_NE(bn.find("conv2.1.bias"), std::string::npos) << bn;
+  auto zero = model_bytes();
+  {
+    std::uint64_t len = 0;
+    std::memcpy(&len, zero.data(), 8);
+    const auto offsets = model_header().at("conv9.weight").at("data_offsets");
+    std::fill(zero.begin() + static_cast<std::ptrdiff_t>(8 + len + offsets[0].get<std::size_t>()),
+              zero.begin() + static_cast<std::ptrdiff_t>(8 + len + offsets[1].get<std::size_t>()), 0);
+  }
+  const std::string z = load_error(zero);
+  EXPECT_NE(z.find("tensor 'conv9.weight': every weight is zero"), std::string::npos) << z;
+  const std::string d = load_error(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp,wall\""));
+  EXPECT_NE(d.find("\"wall\" repeats"), std::string::npos) << d;
 }
 
 // A model trained with another feature normalisation would get features it

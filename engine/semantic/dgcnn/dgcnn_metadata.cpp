@@ -1,6 +1,7 @@
 // Parsing and writing the "sarmap.*" model metadata (see dgcnn_metadata.hpp).
 #include "engine/semantic/dgcnn/dgcnn_metadata.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -72,6 +73,9 @@ DgcnnMetadata parse_dgcnn_metadata(const std::map<std::string, std::string>& ent
       const std::string name = v->substr(start, comma - start);
       const auto id = class_from_name(name);
       if (!id) bad(source, "sarmap.classes", *v, "comma-separated class names (\"" + name + "\" is not one)");
+      if (std::find(m.classes.begin(), m.classes.end(), *id) != m.classes.end()) {
+        bad(source, "sarmap.classes", *v, "distinct class names (\"" + name + "\" repeats)");
+      }
       m.classes.push_back(*id);
       start = comma + 1;
     }

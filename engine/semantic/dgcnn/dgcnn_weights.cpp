@@ -1,10 +1,18 @@
 // Loading and shape-checking the DGCNN layers (see dgcnn_weights.hpp).
 #include "engine/semantic/dgcnn/dgcnn_weights.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <string>
+
 #include "engine/core/error.hpp"
 
 namespace sarmap {
 namespace {
+
+// Trained weights (BatchNorm folded or not) are a few units at most; far
+// beyond this they overflow the forward pass.
+constexpr float kMaxWeight = 1e4f;
 
 class TensorSource {
  public:
@@ -22,7 +30,19 @@ class TensorSource {
     return *t;
   }
 
-  std::vector<float> floats(const SafetensorsTensor& t) const { return file_.floats(t); }
+  // The tensor's values, refused when one is not finite or beyond
+  // kMaxWeight: such a model writes NaN scores or labels every point alike.
+  std::vector<float> floats(const std::string& name, const SafetensorsTensor& t) const {
+    std::vector<float> values = file_.floats(t);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (!std::isfinite(values[i])) fail(name, "value " + std::to_string(i) + " is not finite");
+      if (std::abs(values[i]) > kMaxWeight) {
+        fail(name, "value " + std::to_string(i) + " (" + std::to_string(values[i]) + ") is beyond +-" +
+                       std::to_string(static_cast<int>(kMaxWeight)) + ", not a trained weight");
+      }
+    }
+    return values;
+  }
 
   [[noreturn]] void fail(const std::string& name, const std::string& message) const {
     throw Error(ErrorCode::InvalidData, file_.source() + ": tensor '" + prefix_ + name + "': " + message);
@@ -49,7 +69,10 @@ void read_weight(const TensorSource& src, const std::string& name, ConvLayer& la
   if (t.shape[0] == 0 || t.shape[1] == 0) src.fail(name, "shape " + shape_text(t.shape) + " is empty");
   layer.out = t.shape[0];
   layer.in = t.shape[1];
-  layer.weight = src.floats(t);
+  layer.weight = src.floats(name, t);
+  if (std::all_of(layer.weight.begin(), layer.weight.end(), [](float v) { return v == 0.0f; })) {
+    src.fail(name, "every weight is zero, not a trained layer");
+  }
 }
 
 std::vector<float> read_vector(const TensorSource& src, const std::string& name, std::size_t size) {
@@ -57,7 +80,7 @@ std::vector<float> read_vector(const TensorSource& src, const std::string& name,
   if (t.shape.size() != 1 || t.shape[0] != size) {
     src.fail(name, "shape " + shape_text(t.shape) + ", expected [" + std::to_string(size) + "]");
   }
-  return src.floats(t);
+  return src.floats(name, t);
 }
 
 void read_bn(const TensorSource& src, int index, ConvLayer& layer) {
