@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
@@ -143,6 +144,14 @@ SequenceManifestFrame parse_frame(const Json& j, std::size_t index, const Contex
              std::string("expected a non-empty file name, got ") + file.dump());
   }
   frame.file = file.get<std::string>();
+  // Frames live in the sequence's folder: a path that leaves it (absolute, or
+  // through "..") would read whatever file it names.
+  const std::filesystem::path path(frame.file);
+  const bool leaves = path.is_absolute() || path.has_root_name() ||
+                      std::any_of(path.begin(), path.end(), [](const std::filesystem::path& part) { return part == ".."; });
+  if (leaves) {
+    ctx.fail(ErrorCode::Parse, field + ".file", "\"" + frame.file + "\" leaves the sequence's folder (absolute or \"..\")");
+  }
   if (!has_point_cloud_extension(frame.file)) {
     ctx.fail(ErrorCode::Parse, field + ".file", "\"" + frame.file + "\" is not a .ply or .pcd file");
   }

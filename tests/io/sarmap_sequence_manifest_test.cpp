@@ -105,6 +105,13 @@ TEST(SequenceManifest, EveryBadFieldIsNamed) {
   EXPECT_THAT(msg(manifest_with(R"({"file": "f.txt", "pose": )" + kIdentity + "}")),
               HasSubstr("frames[0].file: \"f.txt\" is not a .ply or .pcd file"));
   EXPECT_THAT(msg(manifest_with(R"({"file": 3, "pose": )" + kIdentity + "}")), HasSubstr("frames[0].file"));
+  EXPECT_THAT(msg(manifest_with(R"({"file": "/etc/f.ply", "pose": )" + kIdentity + "}")),
+              HasSubstr("frames[0].file: \"/etc/f.ply\" leaves the sequence's folder"));
+  EXPECT_THAT(msg(manifest_with(R"({"file": "../other/f.ply", "pose": )" + kIdentity + "}")),
+              HasSubstr("frames[0].file: \"../other/f.ply\" leaves the sequence's folder"));
+  // A subfolder is fine.
+  EXPECT_NO_THROW(parse_sequence_manifest(manifest_with(R"({"file": "sub/f.ply", "pose": )" + kIdentity + "}"),
+                                          "seq/sequence.json"));
   EXPECT_THAT(msg(manifest_with(R"({"file": "f.ply", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,"x", 0,0,0,1]})")),
               HasSubstr("frames[0].pose[11]: expected a number, got string"));
   EXPECT_THAT(msg(manifest_with(R"({"file": "f.ply", "pose": [2,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]})")),
