@@ -161,15 +161,10 @@ PointBuffer PointBuffer::select(std::span<const std::uint32_t> indices) const {
   return out;
 }
 
-std::size_t PointBuffer::remove_non_finite() {
+std::size_t PointBuffer::keep_where(const std::vector<std::uint8_t>& keep) {
   const std::size_t n = size();
   std::size_t kept = 0;
-  // Compacts every array in place with the same keep decision.
-  std::vector<std::uint8_t> keep(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    keep[i] = std::isfinite(x_[i]) && std::isfinite(y_[i]) && std::isfinite(z_[i]);
-    kept += keep[i];
-  }
+  for (std::size_t i = 0; i < n; ++i) kept += keep[i];
   if (kept == n) return 0;
   for_each_array([&keep, n](auto& a) {
     std::size_t out = 0;
@@ -179,6 +174,24 @@ std::size_t PointBuffer::remove_non_finite() {
     a.resize(out);
   });
   return n - kept;
+}
+
+std::size_t PointBuffer::remove_non_finite() {
+  std::vector<std::uint8_t> keep(size());
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    keep[i] = std::isfinite(x_[i]) && std::isfinite(y_[i]) && std::isfinite(z_[i]);
+  }
+  return keep_where(keep);
+}
+
+std::size_t PointBuffer::remove_farther_than(const Eigen::Vector3d& centre, double distance) {
+  const double squared = distance * distance;
+  std::vector<std::uint8_t> keep(size());
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    const double dx = x_[i] - centre.x(), dy = y_[i] - centre.y(), dz = z_[i] - centre.z();
+    keep[i] = dx * dx + dy * dy + dz * dz <= squared;  // false for NaN
+  }
+  return keep_where(keep);
 }
 
 Bounds PointBuffer::bounds() const {

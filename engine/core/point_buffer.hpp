@@ -96,12 +96,17 @@ class PointBuffer {
   PointBuffer select(std::span<const std::uint32_t> indices) const;
   // Drops points whose x, y or z is NaN or infinite; returns how many.
   std::size_t remove_non_finite();
+  // Drops points farther than `distance` from `centre` (NaN ones too); returns how many.
+  std::size_t remove_farther_than(const Eigen::Vector3d& centre, double distance);
   // Bounds of the coordinates (empty for an empty buffer).
   Bounds bounds() const;
   // Copies the set of enabled attributes (not their values) from other.
   void enable_attributes_of(const PointBuffer& other);
 
  private:
+  // Compacts every array in place, keeping point i where keep[i]; returns how many went.
+  std::size_t keep_where(const std::vector<std::uint8_t>& keep);
+
   AlignedVector<float> x_, y_, z_;
   bool has_labels_ = false, has_gt_labels_ = false, has_colors_ = false;
   bool has_intensity_ = false, has_normals_ = false;

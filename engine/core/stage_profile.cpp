@@ -34,6 +34,12 @@ void StageProfile::add_time(std::string_view stage, double seconds) {
   per_scan_.back()[i] += seconds;
 }
 
+void StageProfile::skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open) {
+  if (row_open && !per_scan_.empty()) per_scan_.pop_back();
+  ++skipped_count_;
+  if (skipped_.size() < kMaxListedSkips) skipped_.push_back({index, std::string(source), std::string(error)});
+}
+
 void StageProfile::add_count(std::string_view stage, std::string_view counter, double value) {
   counters_[stage_index(stage)][std::string(counter)] += value;
 }
@@ -118,6 +124,12 @@ std::string StageProfile::json() const {
     per_scan.push_back(r);
   }
   j["per_scan"] = per_scan;
+  j["skipped_scans"] = skipped_count_;
+  nlohmann::ordered_json skipped = nlohmann::ordered_json::array();
+  for (const SkippedScan& s : skipped_) {
+    skipped.push_back({{"scan", s.index}, {"source", s.source}, {"error", s.error}});
+  }
+  j["skipped"] = skipped;
   return j.dump(2);
 }
 

@@ -2,7 +2,8 @@
 // table and as the profile.json that `sarmap run` writes:
 //   {"version": 1, "units": "s", "scans": N, "wall_s": ..., "scans_per_second": ...,
 //    "stages": {"<name>": {"total_s", "mean_s", "p50_s", "p95_s", "max_s", <counters>}},
-//    "per_scan": [{"<name>_s": ...}, ...]}
+//    "per_scan": [{"<name>_s": ...}, ...],
+//    "skipped_scans": N, "skipped": [{"scan", "source", "error"}, ...]}
 #pragma once
 
 #include <chrono>
@@ -43,6 +44,11 @@ class StageProfile {
   void add_time(std::string_view stage, double seconds);
   // Adds to a named counter of a stage (points in, rays cast, ...), summed over scans.
   void add_count(std::string_view stage, std::string_view counter, double value);
+  // Records a scan the run skipped (unreadable, or refused by a stage) and
+  // drops its per-scan row when one is open for it; the first
+  // kMaxListedSkips are listed with their errors, all are counted.
+  void skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open);
+  std::size_t skipped_scans() const { return skipped_count_; }
   // Whole-run wall time, I/O included; scans_per_second derives from it.
   void set_wall_seconds(double seconds) { wall_s_ = seconds; }
 
@@ -63,6 +69,14 @@ class StageProfile {
   std::vector<std::vector<double>> per_scan_;  // [scan][stage] seconds
   std::vector<std::map<std::string, double>> counters_;  // [stage]
   double wall_s_ = 0;
+  struct SkippedScan {
+    std::size_t index;
+    std::string source;
+    std::string error;
+  };
+  static constexpr std::size_t kMaxListedSkips = 100;
+  std::vector<SkippedScan> skipped_;
+  std::size_t skipped_count_ = 0;
 };
 
 }  // namespace sarmap

@@ -30,7 +30,8 @@ class SarmapSequence final : public ScanSource {
 
   bool next(Scan& scan) override {
     if (next_ >= manifest_.frames.size()) return false;
-    const SequenceManifestFrame& frame = manifest_.frames[next_];
+    const std::size_t index = next_++;  // past this frame even when reading it fails
+    const SequenceManifestFrame& frame = manifest_.frames[index];
     const std::filesystem::path file = folder_ / frame.file;
     PointCloudFileInfo info;
     PointBuffer points = read_point_cloud(file, &info);
@@ -47,10 +48,9 @@ class SarmapSequence final : public ScanSource {
     scan.pose = frame.pose;
     scan.origin = frame.origin;
     scan.timestamp = frame.timestamp;
-    scan.index = next_;
+    scan.index = index;
     scan.source = file.string();
     scan.dropped_non_finite = dropped;
-    ++next_;
     return true;
   }
 

@@ -19,7 +19,9 @@ class ScanSource {
   virtual ~ScanSource() = default;
   // Number of frames in the sequence.
   virtual std::size_t size() const = 0;
-  // Reads the next scan into `scan` (points in the world frame); false at the end.
+  // Reads the next scan into `scan` (points in the world frame); false at the
+  // end. Throws sarmap::Error naming the frame's file when the frame cannot be
+  // read; the source has then moved past it, so a caller may go on.
   virtual bool next(Scan& scan) = 0;
   // Restarts from the first frame.
   virtual void rewind() = 0;

@@ -47,11 +47,11 @@ class SevenScenesSequence final : public ScanSource {
 
   bool next(Scan& scan) override {
     if (next_ >= frames_.size()) return false;
-    const SevenScenesFrame& frame = frames_[next_];
+    const std::size_t index = next_++;  // past this frame even when reading it fails
+    const SevenScenesFrame& frame = frames_[index];
     const Pose pose = read_pose_matrix(frame.pose_file);
     scan = read_depth_png_scan(frame.depth_file, *sensor_.intrinsics, decoding_, pose,
-                               static_cast<double>(frame.number) / kSevenScenesFrameRate, next_);
-    ++next_;
+                               static_cast<double>(frame.number) / kSevenScenesFrameRate, index);
     return true;
   }
 

@@ -13,13 +13,13 @@ class SingleCloudSource final : public ScanSource {
   std::size_t size() const override { return 1; }
   bool next(Scan& scan) override {
     if (done_) return false;
+    done_ = true;  // even when reading fails
     PointCloudFileInfo info;
     PointBuffer points = read_point_cloud(path_, &info);
     scan = Scan{};
     scan.points = std::move(points);
     scan.source = path_.string();
     scan.dropped_non_finite = info.dropped_non_finite;
-    done_ = true;
     return true;
   }
   void rewind() override { done_ = false; }

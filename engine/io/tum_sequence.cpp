@@ -53,10 +53,10 @@ class TumSequence final : public ScanSource {
 
   bool next(Scan& scan) override {
     if (next_ >= frames_.size()) return false;
-    const TumFrame& frame = frames_[next_];
+    const std::size_t index = next_++;  // past this frame even when reading it fails
+    const TumFrame& frame = frames_[index];
     scan = read_depth_png_scan(frame.depth_file, *sensor_.intrinsics, decoding_, frame.pose, frame.timestamp,
-                               next_);
-    ++next_;
+                               index);
     return true;
   }
 

@@ -1,6 +1,7 @@
 #include "engine/pipeline/mapper.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <initializer_list>
 #include <string_view>
 #include <utility>
@@ -45,6 +46,9 @@ Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
       classifier_(make_point_classifier(config.classifier)),
       segments_(segment_settings(config, sensor)),
       topo_(config.topo) {
+  if (!(config.max_point_distance >= 0) || !std::isfinite(config.max_point_distance)) {
+    throw Error(ErrorCode::InvalidArgument, "max_point_distance must be a finite number >= 0");
+  }
   if (!(config.semantic_points_voxel >= 0)) {
     throw Error(ErrorCode::InvalidArgument, "semantic_points_voxel must be >= 0");
   }
@@ -60,10 +64,28 @@ void Mapper::begin_scan() {
 void Mapper::integrate(Scan& scan) {
   if (!row_open_) profile_.begin_scan();
   row_open_ = false;
+  try {
+    run_stages(scan);
+  } catch (const Error& e) {
+    throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
+  }
+}
+
+void Mapper::run_stages(Scan& scan) {
   {
     const auto timer = profile_.time("preprocess");
+    const Eigen::Vector3d& o = scan.origin;
+    if (!metric::within_map_limits(o.x(), o.y(), o.z()) || !scan.pose.matrix().allFinite()) {
+      throw Error(ErrorCode::OutOfRange, "sensor origin (" + std::to_string(o.x()) + ", " + std::to_string(o.y()) +
+                                             ", " + std::to_string(o.z()) +
+                                             ") or pose is not finite or beyond the map limits of +-10 km");
+    }
     profile_.add_count("preprocess", "points_in", static_cast<double>(scan.points.size()));
     scan.points.remove_non_finite();
+    if (config_.max_point_distance > 0) {
+      const std::size_t far = scan.points.remove_farther_than(o, config_.max_point_distance);
+      profile_.add_count("preprocess", "points_far", static_cast<double>(far));
+    }
     profile_.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
   }
   {
@@ -74,19 +96,15 @@ void Mapper::integrate(Scan& scan) {
       scan.points.enable_gt_labels();
       std::copy(scan.points.labels().begin(), scan.points.labels().end(), scan.points.gt_labels().begin());
     }
-    try {
-      const ClassifyCounts counts = classifier_->classify(scan.points);
-      add_counts(profile_, "classify",
-                 {{"points", scan.points.size()},
-                  {"blocks", counts.blocks},
-                  {"unlabelled", counts.unlabelled},
-                  {"ramp_vetoed", counts.vetoed},
-                  {"wall_bands", counts.wall_bands},
-                  {"ramp_sides", counts.ramp_sides},
-                  {"wall_feet", counts.wall_feet}});
-    } catch (const Error& e) {
-      throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
-    }
+    const ClassifyCounts counts = classifier_->classify(scan.points);
+    add_counts(profile_, "classify",
+               {{"points", scan.points.size()},
+                {"blocks", counts.blocks},
+                {"unlabelled", counts.unlabelled},
+                {"ramp_vetoed", counts.vetoed},
+                {"wall_bands", counts.wall_bands},
+                {"ramp_sides", counts.ramp_sides},
+                {"wall_feet", counts.wall_feet}});
   }
   {
     const auto timer = profile_.time("metric");

@@ -26,6 +26,10 @@ struct MapperConfig {
   // Rays longer than this are cut (misses only); 0 takes the sequence's
   // sensor.max_range, and no limit when that is 0 too.
   double max_range = 0.0;
+  // Points farther than this from their scan's origin are dropped and counted
+  // (preprocess points_far): a stray far outlier would otherwise stretch every
+  // stage's grids over kilometres. 0 keeps all.
+  double max_point_distance = 1000.0;
   // Where point classes come from: the DGCNN (default), the geometric
   // baseline, or the input's label property.
   ClassifierConfig classifier;
@@ -53,7 +57,11 @@ class Mapper {
   // Opens the profile row of the next scan, so a caller can time its own
   // stages (reading) into it; integrate() opens one itself otherwise.
   void begin_scan();
-  // Runs every stage on one scan (its points are filtered in place).
+  // Runs every stage on one scan (its points are filtered in place). Throws
+  // sarmap::Error naming the scan (index and source) for a scan it refuses: an
+  // origin or pose that is not finite or lies beyond the map's limits, or
+  // points a stage cannot take. Those checks come before any map changes, so
+  // a caller may skip the scan and go on (`sarmap run` does, unless --strict).
   void integrate(Scan& scan);
 
   const MapperConfig& config() const { return config_; }
@@ -72,6 +80,7 @@ class Mapper {
   const StageProfile& profile() const { return profile_; }
 
  private:
+  void run_stages(Scan& scan);
   void keep_semantic_points(const PointBuffer& points);
 
   MapperConfig config_;
