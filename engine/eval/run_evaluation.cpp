@@ -8,6 +8,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/ply.hpp"
+#include "engine/io/run_folder.hpp"
 #include "engine/metric/map_file.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -58,6 +59,7 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   if (!std::filesystem::is_directory(run_dir, ec)) {
     throw Error(ErrorCode::Io, run_dir.string() + ": run folder not found");
   }
+  verify_run_folder(run_dir);  // a half-written or mixed folder is refused, not scored
   RunEvaluation e;
   e.arena_name = arena.name;
   e.run_dir = run_dir;

@@ -39,7 +39,9 @@ struct RunEvaluation {
 // Resolution of the voxels that say which faces were seen when the run has no map.
 inline constexpr double kSegmentTruthResolution = 0.05;
 
-// Throws sarmap::Error(Io) when run_dir is not a folder.
+// Throws sarmap::Error: Io when run_dir is not a folder, InvalidData when its
+// manifest.json is missing or a file it lists does not match it
+// (engine/io/run_folder.hpp). Outputs the manifest does not list are absent.
 RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir);
 
 std::string format_table(const RunEvaluation& evaluation);

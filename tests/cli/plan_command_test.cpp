@@ -103,7 +103,7 @@ TEST_F(PlanCommand, BadOptionsAreErrors) {
   EXPECT_NE(bad.err.find("--graph must be tree, roadmap or grid"), std::string::npos) << bad.err;
   bad = run_cli("plan " + quoted((dir() / "nowhere").string()) + " --from 0,0,0 --to 1,1,0", dir());
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_NE(bad.err.find("graph.json not found"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("nowhere: no manifest.json"), std::string::npos) << bad.err;
 }
 
 TEST_F(PlanCommand, GraphJsonLoadsInNetworkx) {

@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/io/point_cloud_file.hpp"
+#include "engine/io/run_folder.hpp"
+#include "engine/io/sha256.hpp"
 #include "engine/metric/map_file.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/png_test_writer.hpp"
@@ -63,8 +65,23 @@ TEST_F(RunCommand, WritesEveryOutput) {
   EXPECT_EQ(semantic.size(), 5u);  // 3 + 2 points, each in its own 0.1 m voxel
 
   const auto manifest = nlohmann::json::parse(test::read_all(out / "manifest.json"));
-  EXPECT_EQ(fs::path(manifest.at("input").get<std::string>()), fs::absolute(input_));
+  EXPECT_EQ(manifest.at("version").get<int>(), 1);
+  EXPECT_EQ(fs::path(manifest.at("input").at("path").get<std::string>()), fs::absolute(input_));
+  EXPECT_EQ(manifest.at("input").at("sha256").get<std::string>(), sha256_hex(test::read_all(input_ / "sequence.json")));
   EXPECT_EQ(manifest.at("scans").get<int>(), 2);
+  EXPECT_EQ(manifest.at("scans_skipped").get<int>(), 0);
+  // Every output, with its size and hash; the manifest itself comes last and is not listed.
+  std::vector<std::string> listed;
+  for (const auto& output : manifest.at("outputs")) {
+    const std::string name = output.at("name").get<std::string>();
+    listed.push_back(name);
+    EXPECT_EQ(output.at("bytes").get<std::uintmax_t>(), fs::file_size(out / name)) << name;
+    EXPECT_EQ(output.at("sha256").get<std::string>(), sha256_hex(test::read_all(out / name))) << name;
+  }
+  EXPECT_EQ(listed, (std::vector<std::string>{"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply",
+                                              "segments.json", "segments.ply", "graph.json", "graph.graphml",
+                                              "graph.ply", "grid.pgm", "grid.yaml", "profile.json"}));
+  EXPECT_NO_THROW(verify_run_folder(out));
   EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "labels");
 
   const auto profile = nlohmann::ordered_json::parse(test::read_all(out / "profile.json"));

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/io/ply.hpp"
+#include "engine/io/run_folder.hpp"
 #include "tests/sim/run_cli.hpp"
 
 namespace sarmap::eval {
@@ -22,7 +23,11 @@ TEST(EvalCli, JsonFiguresOfASyntheticRun) {
     p.labels()[i] = predicted[i];
     p.gt_labels()[i] = truth[i];
   }
-  write_ply(dir / "run" / "semantic_points.ply", p);
+  {
+    RunFolderWriter folder(dir / "run");
+    write_ply(dir / "run" / "semantic_points.ply", p);
+    folder.commit(nlohmann::ordered_json::object(), {"semantic_points.ply"});
+  }
   const std::string arena = SARMAP_SOURCE_DIR "/datasets/arenas/esogu-6x4.json";
   const auto r = testing::run_cli("eval --arena " + arena + " --run " + (dir / "run").string() + " --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -11,6 +11,7 @@
 #include "engine/core/error.hpp"
 #include "engine/eval/run_evaluation.hpp"
 #include "engine/io/ply.hpp"
+#include "engine/io/run_folder.hpp"
 #include "engine/sim/arena.hpp"
 
 namespace sarmap::eval {
@@ -75,7 +76,11 @@ class RunFolder : public ::testing::Test {
 };
 
 TEST_F(RunFolder, ScoresSemanticPointsAndNamesAbsentFiles) {
-  write_ply(dir_ / "semantic_points.ply", classified_cloud());
+  {
+    RunFolderWriter folder(dir_);
+    write_ply(dir_ / "semantic_points.ply", classified_cloud());
+    folder.commit(nlohmann::ordered_json::object(), {"semantic_points.ply"});
+  }
   const RunEvaluation e = evaluate_run(arena_, dir_);
   EXPECT_EQ(e.arena_name, "esogu-6x4");
   ASSERT_TRUE(e.points.has_value());
@@ -98,6 +103,7 @@ TEST_F(RunFolder, ScoresSemanticPointsAndNamesAbsentFiles) {
 }
 
 TEST_F(RunFolder, EmptyRunReportsWhatIsMissing) {
+  RunFolderWriter(dir_).commit(nlohmann::ordered_json::object(), {});
   const RunEvaluation e = evaluate_run(arena_, dir_);
   EXPECT_FALSE(e.points.has_value());
   EXPECT_EQ(e.notes.size(), 4u);

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/io/run_folder.hpp"
 #include "tests/sim/run_cli.hpp"
 
 namespace sarmap::eval {
@@ -41,8 +42,15 @@ TEST(SegmentEvalCli, FiguresOfASimulatedRun) {
   EXPECT_NE(r.out.find("planar segments:"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("platform_top"), std::string::npos) << r.out;
 
-  // Without segments.json: a note, no figures.
+  // segments.json gone from a finished run: the folder is no longer the set
+  // its manifest lists, and eval refuses it naming the file.
   std::filesystem::remove(dir / "run" / "segments.json");
+  r = testing::run_cli("eval --arena " + arena + " --run " + run, dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("segments.json: listed in manifest.json but missing"), std::string::npos) << r.err;
+
+  // A set that never had segments.json: a note, no figures.
+  RunFolderWriter(dir / "run").commit(nlohmann::ordered_json::object(), {"map.sarmap", "semantic_points.ply"});
   r = testing::run_cli("eval --arena " + arena + " --run " + run + " --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto k = nlohmann::json::parse(r.out);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "engine/io/run_folder.hpp"
 #include "engine/metric/map_file.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -62,6 +63,7 @@ void run_plan(const PlanArgs& a) {
   const Eigen::Vector3d from = parse_point(a.from, "--from");
   const Eigen::Vector3d to = parse_point(a.to, "--to");
   const fs::path run = a.run;
+  verify_run_folder(run);  // a half-written or mixed folder is refused
   for (const char* name : {"graph.json", "segments.json", "map.sarmap"}) {
     if (!fs::is_regular_file(run / name)) {
       throw Error(ErrorCode::Io, (run / name).string() + " not found (plan needs a folder written by sarmap run)");

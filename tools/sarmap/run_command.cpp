@@ -16,6 +16,8 @@
 #include "engine/core/version.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/point_cloud_file.hpp"
+#include "engine/io/run_folder.hpp"
+#include "engine/io/sha256.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/metric/map_file.hpp"
 #include "engine/metric/octomap_export.hpp"
@@ -28,10 +30,26 @@
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
 #include "tools/sarmap/shipped_data.hpp"
+#include "tools/sarmap/skipped_scans.hpp"
 
 namespace sarmap::cli {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// What manifest.json says of the input: its path and the SHA-256 of the file
+// that defines it (a single cloud, or a sarmap sequence's sequence.json).
+nlohmann::ordered_json input_record(const fs::path& input) {
+  nlohmann::ordered_json record;
+  record["path"] = fs::absolute(input).string();
+  const fs::path defining = fs::is_directory(input) ? input / "sequence.json" : input;
+  record["sha256"] = fs::is_regular_file(defining) ? nlohmann::ordered_json(digest_file(defining).sha256)
+                                                   : nlohmann::ordered_json(nullptr);
+  return record;
+}
+
+}  // namespace
 
 RunSummary run_pipeline(const RunOptions& o) {
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "run: --out DIR is required");
@@ -50,6 +68,10 @@ RunSummary run_pipeline(const RunOptions& o) {
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
+  if (!(o.max_point_distance >= 0) || !std::isfinite(o.max_point_distance)) {
+    throw Error(ErrorCode::InvalidArgument, "run: --max-point-distance must be a finite number >= 0");
+  }
+  config.max_point_distance = o.max_point_distance;
   if (!(o.keep_radius >= 0) || !std::isfinite(o.keep_radius)) {
     throw Error(ErrorCode::InvalidArgument, "run: --keep-radius must be a finite number >= 0");
   }
@@ -75,44 +97,69 @@ RunSummary run_pipeline(const RunOptions& o) {
   }
   config.semantic_points_voxel = o.voxel;
   pipeline::Mapper mapper(config, source->sensor());
-  fs::create_directories(o.out);
-  {
-    // Find out now, not after the whole mapping, that the folder takes no files.
-    AtomicFileWriter probe(o.out / ".sarmap_write_probe");
-  }
+  // Before the mapping: a folder that cannot take the outputs fails now, and
+  // the old run's manifest goes, so the folder reads as unfinished until the
+  // new manifest is written last.
+  RunFolderWriter folder(o.out);
 
   ProgressLine progress("run", source->size(), !o.quiet);
   Scan scan;
   std::size_t scans = 0;
-  while (true) {
+  // One unreadable frame or refused scan costs that scan, not the run: both
+  // leave the maps as they were (ScanSource::next, Mapper::integrate).
+  SkippedScans skipped(mapper.profile(), o.strict);
+  for (std::size_t attempt = 0;; ++attempt) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (!source->next(scan)) break;
+    try {
+      if (!source->next(scan)) break;
+    } catch (const Error& e) {
+      skipped.add(attempt, "frame " + std::to_string(attempt), e, /*row_open=*/false);
+      progress.update(attempt + 1);
+      continue;
+    }
     mapper.begin_scan();
     mapper.profile().add_time("read", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    mapper.integrate(scan);
-    ++scans;
-    progress.update(scans);
+    try {
+      mapper.integrate(scan);
+      ++scans;
+    } catch (const Error& e) {
+      skipped.add(attempt, scan.source, e, /*row_open=*/true);
+    }
+    progress.update(attempt + 1);
   }
   progress.finish();
+  if (scans == 0 && skipped.count() > 0) {
+    throw Error(ErrorCode::InvalidData, "run: none of the " + std::to_string(skipped.count()) +
+                                            " scans could be used; the first: " + skipped.first_error());
+  }
 
   const metric::MetricMap& map = mapper.metric_map();
-  metric::save_map(map, o.out / "map.sarmap");
-  metric::write_octomap_bt(map, o.out / "map.bt");
-  write_point_cloud(o.out / "voxels.ply", metric::occupied_voxel_cloud(map));
-  write_point_cloud(o.out / "semantic_points.ply", mapper.semantic_points());
-  segments::write_segments_json(o.out / "segments.json", mapper.segment_map());
-  segments::write_segments_ply(o.out / "segments.ply", mapper.segment_map());
+  metric::save_map(map, folder.path_of("map.sarmap"));
+  metric::write_octomap_bt(map, folder.path_of("map.bt"));
+  write_point_cloud(folder.path_of("voxels.ply"), metric::occupied_voxel_cloud(map));
+  write_point_cloud(folder.path_of("semantic_points.ply"), mapper.semantic_points());
+  segments::write_segments_json(folder.path_of("segments.json"), mapper.segment_map());
+  segments::write_segments_ply(folder.path_of("segments.ply"), mapper.segment_map());
   const topo::TopoMap& topo = mapper.topo_map();
-  topo::write_graph_json(o.out / "graph.json", topo);
-  topo::write_graph_graphml(o.out / "graph.graphml", topo);
-  topo::write_graph_ply(o.out / "graph.ply", topo);
+  topo::write_graph_json(folder.path_of("graph.json"), topo);
+  topo::write_graph_graphml(folder.path_of("graph.graphml"), topo);
+  topo::write_graph_ply(folder.path_of("graph.ply"), topo);
   topo::write_ros_map(topo.grid().grid, o.out, "grid");
+  mapper.profile().set_wall_seconds(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+  {
+    AtomicFileWriter w(folder.path_of("profile.json"));
+    w.write(mapper.profile().json() + "\n");
+    w.commit();
+  }
 
   nlohmann::ordered_json manifest;
+  manifest["version"] = kRunManifestVersion;
   manifest["sarmap_version"] = kVersion;
-  manifest["input"] = fs::absolute(o.input).string();
+  manifest["input"] = input_record(o.input);
   manifest["layout"] = source->layout();
   manifest["scans"] = scans;
+  manifest["scans_skipped"] = skipped.count();
   manifest["settings"]["voxel"] = o.voxel;
   manifest["settings"]["classifier"] = o.classifier;
   if (o.classifier == "dgcnn") {
@@ -126,32 +173,24 @@ RunSummary run_pipeline(const RunOptions& o) {
   }
   manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
                           {"max_range", mapper.max_range()},
+                          {"max_point_distance", o.max_point_distance},
                           {"keep_radius", o.keep_radius},
                           {"max_blocks", o.max_blocks},
+                          {"strict", o.strict},
                           {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
                                                ? "bayesian"
                                                : "histogram"}});
-  manifest["outputs"] = {"map.sarmap",    "map.bt",       "voxels.ply",    "semantic_points.ply",
-                         "segments.json", "segments.ply", "graph.json",    "graph.graphml",
-                         "graph.ply",     "grid.pgm",     "grid.yaml",     "profile.json"};
-  {
-    AtomicFileWriter w(o.out / "manifest.json");
-    w.write(manifest.dump(2) + "\n");
-    w.commit();
-  }
-  mapper.profile().set_wall_seconds(
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
-  {
-    AtomicFileWriter w(o.out / "profile.json");
-    w.write(mapper.profile().json() + "\n");
-    w.commit();
-  }
+  // The commit record, written last (engine/io/run_folder.hpp).
+  folder.commit(manifest, {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json",
+                           "segments.ply", "graph.json", "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml",
+                           "profile.json"});
   RunSummary summary;
   summary.scans = scans;
   summary.counts = map.counts();
   summary.stats = mapper.metric_stats();
   summary.wall_s = mapper.profile().wall_seconds();
   if (!o.quiet) {
+    if (skipped.count() > 0) std::printf("%zu scans skipped (profile.json lists them)\n", skipped.count());
     std::printf("%zu scans, %zu points (%zu rejected) -> %zu occupied, %zu free voxels at %.3f m in %.2f s\n",
                 scans, summary.stats.points_in, summary.stats.points_rejected, summary.counts.occupied,
                 summary.counts.free, o.voxel, summary.wall_s);
@@ -212,7 +251,14 @@ void add_run_command(CLI::App& app) {
                   "Keep at most this many map blocks (8^3 voxels each), forgetting the farthest from the "
                   "sensor first; 0 = no limit")
       ->capture_default_str();
+  cmd->add_option("--max-point-distance", o->max_point_distance,
+                  "Drop points farther than this from their scan's origin (m), counted in profile.json; "
+                  "0 = keep all")
+      ->capture_default_str();
   add_sequence_input_options(cmd, o->sequence);
+  cmd->add_flag("--strict", o->strict,
+                "Stop at the first frame that cannot be read or scan the map refuses (by default such a scan "
+                "is skipped with a warning and listed in profile.json)");
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o] { run_pipeline(*o); });
 }

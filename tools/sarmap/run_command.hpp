@@ -29,8 +29,10 @@ struct RunOptions {
   bool wall_feet = true;      // wall labels at the floor's height become terrain
   int threads = 0;
   double max_range = 0.0;
+  double max_point_distance = 1000.0;  // drop points farther from their scan's origin (m); 0 = keep all
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
   std::size_t max_blocks = 0;   // keep at most this many map blocks, the farthest dropped first; 0 = no limit
+  bool strict = false;  // a bad frame or refused scan ends the run instead of being skipped
   bool quiet = false;
 };
 
