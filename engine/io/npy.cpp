@@ -2,11 +2,13 @@
 // Python dict literal; only the subset numpy writes is accepted.
 #include "engine/io/npy.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -167,16 +169,29 @@ NpyArray read_npy_f32(const std::filesystem::path& path) {
   }
   NpyArray array;
   array.shape = shape->second.tuple;
-  std::size_t count = 1;
-  for (std::size_t d : array.shape) count *= d;
   const std::size_t data_start = header_start + header_len;
-  if (bytes.size() - data_start != count * 4) {
+  const std::size_t data_bytes = bytes.size() - data_start;
+  // In checked arithmetic: a shape such as (2**40, 2**40) wraps to 0 elements
+  // in size_t and would pass for an empty array of a huge shape.
+  const bool empty = std::find(array.shape.begin(), array.shape.end(), std::size_t{0}) != array.shape.end();
+  std::size_t count = empty ? 0 : 1;
+  if (!empty) {
+    for (std::size_t d : array.shape) {
+      if (count > std::numeric_limits<std::size_t>::max() / 4 / d) {
+        throw Error(ErrorCode::Parse,
+                    at_offset(src, header_start, "shape holds more elements than memory can address"));
+      }
+      count *= d;
+    }
+  }
+  if (data_bytes != count * 4) {
     throw Error(ErrorCode::Parse, at_offset(src, data_start, "shape needs " + std::to_string(count * 4) +
                                                                  " bytes of data, " +
                                                                  std::to_string(bytes.size() - data_start) + " present"));
   }
   array.values.resize(count);
-  std::memcpy(array.values.data(), bytes.data() + data_start, count * 4);
+  // memcpy to the null data() of an empty vector is undefined.
+  if (count > 0) std::memcpy(array.values.data(), bytes.data() + data_start, count * 4);
   return array;
 }
 

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -69,7 +70,20 @@ SafetensorsTensor parse_entry(const std::string& name, const nlohmann::json& ent
          where + ": data_offsets [" + std::to_string(t.begin) + ", " + std::to_string(t.end) +
              "] run past the end of the data (" + std::to_string(data_size) + " bytes; file truncated?)");
   }
-  const std::size_t expected = t.element_count() * *size;
+  // In checked arithmetic: a shape such as [2^32, 2^32] wraps to 0 elements
+  // in size_t and would pass for an empty tensor of a huge shape.
+  const bool empty = std::find(t.shape.begin(), t.shape.end(), std::size_t{0}) != t.shape.end();
+  std::size_t count = empty ? 0 : 1;
+  if (!empty) {
+    for (std::size_t d : t.shape) {
+      if (count > std::numeric_limits<std::size_t>::max() / *size / d) {
+        fail(ErrorCode::Parse, source,
+             where + ": shape " + shape_text(t.shape) + " holds more elements than memory can address");
+      }
+      count *= d;
+    }
+  }
+  const std::size_t expected = count * *size;
   if (t.end - t.begin != expected) {
     fail(ErrorCode::Parse, source,
          where + ": " + std::to_string(t.end - t.begin) + " bytes of data, but shape " + shape_text(t.shape) +
@@ -150,7 +164,10 @@ std::vector<float> SafetensorsFile::floats(const SafetensorsTensor& tensor) cons
     fail(ErrorCode::Unsupported, source_, "tensor '" + tensor.name + "' has dtype " + tensor.dtype + ", expected F32");
   }
   std::vector<float> values(tensor.element_count());
-  std::memcpy(values.data(), bytes_.data() + data_start_ + tensor.begin, values.size() * sizeof(float));
+  // memcpy from or to the null data() of an empty vector is undefined.
+  if (!values.empty()) {
+    std::memcpy(values.data(), bytes_.data() + data_start_ + tensor.begin, values.size() * sizeof(float));
+  }
   return values;
 }
 

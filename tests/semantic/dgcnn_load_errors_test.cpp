@@ -120,6 +120,30 @@ TEST(DgcnnLoad, ByteCountThatDoesNotFitTheShapeIsNamed) {
   EXPECT_NE(e.find("conv9.weight"), std::string::npos) << e;
 }
 
+// fuzz/safetensors_fuzz found that an empty tensor's values were copied
+// through a null pointer (undefined behaviour); reading that code showed
+// [2^32, 2^32] elements wrapping to 0 in size_t, so an empty byte range
+// passed for a huge tensor.
+TEST(DgcnnLoad, ShapeWhoseElementCountOverflowsIsRefusedAndEmptyTensorsRead) {
+  nlohmann::json h = model_header();
+  h["huge"] = {{"dtype", "F32"}, {"shape", {4294967296ull, 4294967296ull}}, {"data_offsets", {0, 0}}};
+  std::string e;
+  try {
+    SafetensorsFile::parse(with_header_json(h), "m.safetensors");
+  } catch (const Error& err) {
+    e = err.what();
+  }
+  EXPECT_NE(e.find("tensor 'huge': shape [4294967296, 4294967296] holds more elements than memory can address"),
+            std::string::npos)
+      << e;
+
+  h.erase("huge");
+  h["empty"] = {{"dtype", "F32"}, {"shape", {0, 4}}, {"data_offsets", {0, 0}}};
+  const SafetensorsFile file = SafetensorsFile::parse(with_header_json(h), "m.safetensors");
+  ASSERT_NE(file.find("empty"), nullptr);
+  EXPECT_TRUE(file.floats(*file.find("empty")).empty());
+}
+
 TEST(DgcnnLoad, BadMetadataIsNamed) {
   const std::string e = load_error(with_header("\"sarmap.k\":\"20\"", "\"sarmap.k\":\"zz\""));
   EXPECT_NE(e.find("sarmap.k"), std::string::npos) << e;
@@ -242,6 +266,19 @@ TEST_F(NpyErrors, RoundTripAndEachCheck) {
   v9.write("\x93NUMPY\x09\x00\x00\x00\x00\x00", 12);
   v9.close();
   EXPECT_NE(error(dir / "v9.npy").find("version"), std::string::npos);
+}
+
+// fuzz/npy_fuzz found that a (0, 3) array was copied through a null pointer
+// (undefined behaviour); reading that code showed (2**40, 2**40) elements
+// wrapping to 0 in size_t, read as an empty array of that shape.
+TEST_F(NpyErrors, ShapeWhoseElementCountOverflowsIsRefusedAndEmptyArraysRead) {
+  const std::string e = error(
+      write("wrap.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (1099511627776, 1099511627776), }", 0));
+  EXPECT_NE(e.find("shape holds more elements than memory can address"), std::string::npos) << e;
+  EXPECT_EQ(error(write("empty.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (0, 3), }", 0)), "");
+  const NpyArray empty = read_npy_f32(dir / "empty.npy");
+  EXPECT_EQ(empty.shape, (std::vector<std::size_t>{0, 3}));
+  EXPECT_TRUE(empty.values.empty());
 }
 
 // conv9 has no bias in the reference layout, but a model trained with one
