@@ -17,6 +17,9 @@ packages=(
   libboost-graph-dev
   # tests only: graph.json must load in networkx (tests/cli/plan_command_test.cpp)
   python3-networkx
+  # fuzzing only (fuzz/, tools/fuzz.sh, the CI fuzz job): clang and its
+  # libFuzzer runtime; GCC has no libFuzzer
+  clang-14 libclang-rt-14-dev
 )
 
 # Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by
