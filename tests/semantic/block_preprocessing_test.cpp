@@ -77,6 +77,24 @@ TEST(BlockPartition, RejectsBadSettings) {
   EXPECT_THROW(partition_blocks(cloud, settings), Error);
 }
 
+// A tiny stride puts every point in (block / stride)^2 blocks: 1e-6 m had
+// taken over 4 GB. The bound: 16 x 16 blocks per point, refused past it.
+TEST(BlockPartition, StrideBelowASixteenthOfTheBlockIsRefused) {
+  PointBuffer cloud;
+  cloud.push_back(0.1f, 0.1f, 0.0f);
+  BlockPartitionSettings settings;
+  settings.min_points = 1;
+  settings.stride = 1.0 / kMaxBlockOverlap;
+  EXPECT_NO_THROW(partition_blocks(cloud, settings));
+  settings.stride = 1e-6;
+  try {
+    partition_blocks(cloud, settings);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("over 256 blocks"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BlockSampling, MoreThanTargetIsDistinctAndDeterministic) {
   const auto a = sample_block(10000, 4096, 42, 3);
   ASSERT_EQ(a.size(), 4096u);

@@ -51,6 +51,22 @@ TEST(DgcnnClassifier, ByDefaultBlocksOverlapByAQuarter) {
   }
 }
 
+// The neighbour search is quadratic: a 200,000-point raw block ran for minutes.
+TEST(DgcnnModel, RefusesBlocksBeyondTheLimitBeforeAnyWork) {
+  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  const std::size_t n = DgcnnModel::kMaxBlockPoints + 1;
+  const std::vector<float> block(n * model.channels(), 0.0f);
+  std::vector<float> logits(n * model.classes());
+  DgcnnWorkspace workspace;
+  try {
+    model.forward(block.data(), n, logits.data(), workspace);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::OutOfRange);
+    EXPECT_NE(std::string(e.what()).find("a block of 16385 points; at most 16384"), std::string::npos) << e.what();
+  }
+}
+
 TEST(DgcnnClassifier, LabelsEveryPointWithValidClassesAndProbabilities) {
   const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
   const DgcnnClassifier classifier(model, one_block_per_cell(model));

@@ -33,6 +33,12 @@ BlockPartition partition_blocks(const PointBuffer& points, const BlockPartitionS
   if (!(b > 0.0) || !std::isfinite(b)) {
     throw Error(ErrorCode::InvalidArgument, "partition_blocks: block_size must be a positive number, got " + std::to_string(b));
   }
+  if (s < b / kMaxBlockOverlap) {
+    throw Error(ErrorCode::OutOfRange, "partition_blocks: stride " + std::to_string(s) + " is below block_size " +
+                                           std::to_string(b) + " / " + std::to_string(int(kMaxBlockOverlap)) +
+                                           "; every point would lie in over " +
+                                           std::to_string(int(kMaxBlockOverlap * kMaxBlockOverlap)) + " blocks");
+  }
   if (s > b) {
     throw Error(ErrorCode::InvalidArgument, "partition_blocks: stride " + std::to_string(s) +
                                                 " exceeds block_size " + std::to_string(b) + "; points between blocks would be lost");

@@ -10,6 +10,10 @@
 
 namespace sarmap {
 
+// A stride below block_size / kMaxBlockOverlap is refused: each point would
+// lie in more than kMaxBlockOverlap^2 blocks and the work would grow with it.
+inline constexpr double kMaxBlockOverlap = 16.0;
+
 struct BlockPartitionSettings {
   double block_size = 1.0;    // metres
   double stride = 0.0;        // metres between block origins; <= 0 means block_size
@@ -31,7 +35,7 @@ struct BlockPartition {
 // Block (i, j) covers [ox + i*stride, ox + i*stride + block_size) in x (same in y),
 // with ox = floor(min x / stride) * stride so the grid is fixed in the world frame.
 // Throws sarmap::Error on non-positive sizes, stride > block_size (points would be
-// lost between blocks) or non-finite coordinates.
+// lost between blocks), stride < block_size / kMaxBlockOverlap, or non-finite coordinates.
 BlockPartition partition_blocks(const PointBuffer& points, const BlockPartitionSettings& settings);
 
 }  // namespace sarmap

@@ -53,7 +53,7 @@ DgcnnMetadata parse_dgcnn_metadata(const std::map<std::string, std::string>& ent
   };
   if (const auto* v = get("sarmap.k")) m.k = parse_count(source, "sarmap.k", *v, 1, 64);
   if (const auto* v = get("sarmap.points_per_block")) {
-    m.points_per_block = parse_count(source, "sarmap.points_per_block", *v, 1, 1u << 20);
+    m.points_per_block = parse_count(source, "sarmap.points_per_block", *v, 1, kMaxPointsPerBlock);
   }
   if (const auto* v = get("sarmap.block_size")) {
     m.block_size = parse_real(source, "sarmap.block_size", *v);

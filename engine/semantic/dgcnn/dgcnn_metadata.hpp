@@ -18,6 +18,10 @@ namespace sarmap {
 // z over the fixed range [z_min, z_max] of the world frame (block_features.hpp).
 inline constexpr const char* kCellXyFixedZ = "cell_xy_fixed_z";
 
+// Four times the DGCNN authors' 4,096 points per block: the kNN is quadratic
+// in the count, so a bigger block is refused, not run for minutes.
+inline constexpr std::size_t kMaxPointsPerBlock = 16384;
+
 struct DgcnnMetadata {
   std::size_t k = 20;
   std::size_t points_per_block = 4096;

@@ -132,6 +132,11 @@ DgcnnModel::DgcnnModel(const DgcnnWeights& w, DgcnnMetadata metadata, kernels::S
 void DgcnnModel::forward(const float* block, std::size_t n, float* logits, DgcnnWorkspace& ws,
                          DgcnnStageTimes* times) const {
   if (n == 0) throw Error(ErrorCode::InvalidArgument, "DGCNN forward: empty block");
+  if (n > kMaxBlockPoints) {
+    throw Error(ErrorCode::OutOfRange, "DGCNN forward: a block of " + std::to_string(n) + " points; at most " +
+                                           std::to_string(kMaxBlockPoints) +
+                                           " (the neighbour search grows with the square of the count)");
+  }
   for (std::size_t i = 0; i < n * channels_; ++i) {
     if (!std::isfinite(block[i])) {
       throw Error(ErrorCode::InvalidData, "DGCNN input: point " + std::to_string(i / channels_) + " channel " +

@@ -32,9 +32,11 @@ class DgcnnModel {
   const DgcnnMetadata& metadata() const { return metadata_; }
   kernels::SimdLevel level() const { return level_; }
 
+  static constexpr std::size_t kMaxBlockPoints = kMaxPointsPerBlock;
+
   // logits (n x classes(), row-major) of a block of n points with channels()
-  // floats each, row-major. Throws sarmap::Error for n == 0 or a non-finite
-  // value. Threads: whatever oneTBB arena the caller runs in; the result does
+  // floats each, row-major. Throws sarmap::Error for n == 0, n >
+  // kMaxBlockPoints or a non-finite value. Threads: whatever oneTBB arena the caller runs in; the result does
   // not depend on it. `times`, when given, receives per-stage wall time.
   void forward(const float* block, std::size_t n, float* logits, DgcnnWorkspace& workspace,
                DgcnnStageTimes* times = nullptr) const;
