@@ -81,6 +81,12 @@ TEST_F(SimulateCli, BadArenaFailsWithItsMessage) {
   const auto none = sarmap::testing::run_cli("simulate --out " + (dir_ / "seq").string(), dir_);
   EXPECT_NE(none.exit_code, 0);
   EXPECT_NE(none.err.find("give ARENA.json or --random SEED"), std::string::npos) << none.err;
+  // A negative seed had wrapped round to 2^64 - 1 and been accepted.
+  for (const char* option : {"--random -1", "--seed -1 --random 3"}) {
+    const auto negative = sarmap::testing::run_cli(std::string("simulate ") + option + " --out " + (dir_ / "seq").string(), dir_);
+    EXPECT_NE(negative.exit_code, 0) << option;
+    EXPECT_NE(negative.err.find(std::string(option).substr(0, 6)), std::string::npos) << negative.err;
+  }
 }
 
 }  // namespace
