@@ -131,6 +131,8 @@ SafetensorsFile SafetensorsFile::parse(std::vector<std::uint8_t> bytes, std::str
     header = nlohmann::json::parse(bytes.begin() + 8, bytes.begin() + 8 + static_cast<std::ptrdiff_t>(header_len));
   } catch (const nlohmann::json::parse_error& e) {
     throw Error(ErrorCode::Parse, at_offset(src, 8 + e.byte, std::string("header is not valid JSON: ") + e.what()));
+  } catch (const nlohmann::json::exception& e) {  // out_of_range: a number beyond a double, such as 1e999
+    fail(ErrorCode::Parse, src, std::string("header is not valid JSON: ") + e.what());
   }
   if (!header.is_object()) fail(ErrorCode::Parse, src, "header is not a JSON object");
   file.data_start_ = 8 + static_cast<std::size_t>(header_len);

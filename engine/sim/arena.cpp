@@ -324,6 +324,8 @@ Arena parse_arena(std::string_view json_text, std::string_view source_view,
     j = Json::parse(json_text.begin(), json_text.end());
   } catch (const Json::parse_error& e) {
     throw Error(ErrorCode::Parse, source + " (byte offset " + std::to_string(e.byte) + "): not valid JSON: " + e.what());
+  } catch (const Json::exception& e) {  // out_of_range: a number beyond a double, such as 1e999
+    throw Error(ErrorCode::Parse, source + ": not valid JSON: " + e.what());
   }
   Fields f(j, source);
   Arena a;

@@ -268,6 +268,20 @@ TEST_F(NpyErrors, RoundTripAndEachCheck) {
   EXPECT_NE(error(dir / "v9.npy").find("version"), std::string::npos);
 }
 
+// Found by fuzz/safetensors_fuzz: a number beyond a double in the header
+// ('608e736') made nlohmann::json throw out_of_range, which escaped the
+// parse_error handler as an internal error.
+TEST(DgcnnLoad, HeaderNumberBeyondADoubleIsAParseError) {
+  const std::string header = R"({"a": {"dtype": "F32", "shape": [608e736], "data_offsets": [0, 4]}})";
+  std::vector<std::uint8_t> bytes;
+  for (int i = 0; i < 8; ++i) bytes.push_back(static_cast<std::uint8_t>(header.size() >> (8 * i)));
+  bytes.insert(bytes.end(), header.begin(), header.end());
+  bytes.resize(bytes.size() + 4, 0);
+  const std::string e = load_error(bytes);
+  EXPECT_NE(e.find("m.safetensors: header is not valid JSON: "), std::string::npos) << e;
+  EXPECT_NE(e.find("number overflow"), std::string::npos) << e;
+}
+
 // fuzz/npy_fuzz found that a (0, 3) array was copied through a null pointer
 // (undefined behaviour); reading that code showed (2**40, 2**40) elements
 // wrapping to 0 in size_t, read as an empty array of that shape.

@@ -197,5 +197,20 @@ TEST(Arena, RejectsBrokenJsonWithOffset) {
   EXPECT_THROW(load_arena("/no/such/arena.json"), Error);
 }
 
+// A number beyond a double makes nlohmann::json throw out_of_range, not
+// parse_error, and it escaped as an internal error: fuzz/safetensors_fuzz
+// found it there, and this catch had the same gap.
+TEST(Arena, RejectsANumberBeyondADouble) {
+  try {
+    parse_arena(R"({"version": 1, "name": "x", "bounds": {"min": [0, 0, 0], "max": [1e999, 2, 1]}})",
+                "huge.json", ".");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Parse);
+    EXPECT_NE(std::string(e.what()).find("huge.json: not valid JSON: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("number overflow"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace sarmap::sim
