@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <pty.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 namespace sarmap::cli {
@@ -66,15 +68,59 @@ TEST(Progress, DrawsInPlaceOnATerminalAndClearsAtTheEnd) {
   std::fclose(file);
 }
 
+// On a terminal, where an enabled line does draw (the test above), a
+// disabled one (--quiet) must not.
 TEST(Progress, IsSilentWhenDisabled) {
-  // Disabled (as with --quiet): updates must not touch stderr; capture it to check.
-  testing::internal::CaptureStderr();
+  int master = -1, slave = -1;
+  ASSERT_EQ(::openpty(&master, &slave, nullptr, nullptr, nullptr), 0);
+  std::FILE* terminal = ::fdopen(slave, "w");
+  ASSERT_NE(terminal, nullptr);
+  ASSERT_TRUE(is_terminal(terminal));
   {
-    ProgressLine line("x", 3, false);
+    ProgressLine line("x", 3, false, terminal);
     line.update(1);
     line.update(3);
+    line.finish();
   }
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  std::fflush(terminal);
+  EXPECT_EQ(drain(master), "");
+  std::fclose(terminal);
+  ::close(master);
+}
+
+// The whole CLI on a pseudo-terminal, as a user at a shell sees it: `sarmap
+// run` draws its progress line there, and --quiet removes it.
+std::string cli_on_a_terminal(const std::string& args) {
+  int master = -1;
+  const pid_t child = ::forkpty(&master, nullptr, nullptr, nullptr);
+  if (child == 0) {
+    const std::string command = std::string("exec '") + SARMAP_CLI_PATH + "' " + args;
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  std::string out;
+  char buffer[512];
+  while (true) {
+    const ssize_t n = ::read(master, buffer, sizeof buffer);
+    if (n <= 0) break;  // EIO once the child has exited and closed the terminal
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ::close(master);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  return out;
+}
+
+TEST(Progress, RunDrawsOnATerminalUnlessQuiet) {
+  const std::string tmp = ::testing::TempDir() + "sarmap_progress_pty_" + std::to_string(::getpid());
+  const std::string run = std::string("run '") + SARMAP_TEST_DATA_DIR + "/sequences/tiny' --classifier labels --voxel 0.1 --out '" + tmp;
+  const std::string loud = cli_on_a_terminal(run + "/loud'");
+  EXPECT_THAT(loud, ::testing::HasSubstr("\rrun: 2/2 frames"));
+  const std::string quiet = cli_on_a_terminal(run + "/quiet' --quiet");
+  EXPECT_EQ(quiet.find("frames"), std::string::npos) << quiet;
+  EXPECT_EQ(quiet, "");
+  std::filesystem::remove_all(tmp);
 }
 
 }  // namespace
