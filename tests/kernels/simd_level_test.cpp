@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
 namespace sarmap::kernels {
 namespace {
 
@@ -27,6 +31,26 @@ TEST(SimdLevel, ForcingALevelSticksOnlyWhenSupported) {
     EXPECT_EQ(set_simd_level(level), simd_level_supported(level));
   }
   set_simd_level(before);
+}
+
+// The kernel tests run every level this CPU has and skip the others without
+// failing, so a green run on an AVX2-only machine says nothing of AVX-512.
+// This case prints which levels this run covers (CI prints it too), and
+// SARMAP_REQUIRE_SIMD=avx512 (or avx2) makes a machine without it a failure.
+TEST(SimdLevel, ReportsTheLevelsThisRunTests) {
+  std::string tested, untested;
+  for (SimdLevel level : {SimdLevel::Sse42, SimdLevel::Avx2, SimdLevel::Avx512}) {
+    std::string& list = simd_level_supported(level) ? tested : untested;
+    list += (list.empty() ? "" : " ") + std::string(to_string(level));
+  }
+  std::printf("kernel SIMD levels tested: %s; untested (CPU lacks them): %s\n", tested.c_str(),
+              untested.empty() ? "none" : untested.c_str());
+  ::testing::Test::RecordProperty("simd_levels_tested", tested);
+  if (const char* required = std::getenv("SARMAP_REQUIRE_SIMD"); required != nullptr && *required != '\0') {
+    const auto level = simd_level_from_string(required);
+    ASSERT_TRUE(level.has_value()) << "SARMAP_REQUIRE_SIMD=" << required << " is not a level name";
+    EXPECT_TRUE(simd_level_supported(*level)) << "SARMAP_REQUIRE_SIMD=" << required << " but this CPU lacks it";
+  }
 }
 
 TEST(SimdLevel, PanelWidthIsTwoVectors) {
