@@ -90,6 +90,20 @@ TEST(SarmapSequence, MissingFramesAndBadLabelsAreNamed) {
   EXPECT_THAT(error_message([&] { open_scan_sequence(dir.path()); }), HasSubstr("unknown key \"extra\""));
 }
 
+// Found by fuzz/sarmap_sequence_fuzz: a frame name longer than NAME_MAX made
+// std::filesystem throw filesystem_error, which reached the user as an
+// internal error.
+TEST(SarmapSequence, AFrameNameTheSystemRefusesIsNamed) {
+  test::ScratchFolder dir;
+  write_sensor_frame_sequence(dir);
+  const std::string long_name(300, 'f');
+  dir.write("sequence.json", R"({"version": 1, "points_frame": "world", "frames": [
+      {"file": ")" + long_name + R"(.ply", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]})");
+  const std::string msg = error_message([&] { open_scan_sequence(dir.path()); });
+  EXPECT_THAT(msg, HasSubstr("sequence.json: frames[0].file: "));
+  EXPECT_THAT(msg, HasSubstr("File name too long"));
+}
+
 TEST(SingleCloudSource, AFileIsOneScanWithIdentityPose) {
   test::ScratchFolder dir;
   write_point_cloud(dir / "c.ply", sensor_points());

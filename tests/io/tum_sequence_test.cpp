@@ -165,6 +165,10 @@ TEST(TumSequence, BadDepthListAndImagesAreErrors) {
   EXPECT_THAT(open_error(), HasSubstr("depth.txt:1: timestamp: expected a number"));
   dir.write("depth.txt", "# nothing\n");
   EXPECT_THAT(open_error(), HasSubstr("lists no depth images"));
+  // A name longer than NAME_MAX threw filesystem_error (an internal error).
+  dir.write("depth.txt", "1.0 depth/" + std::string(300, 'd') + ".png\n");
+  EXPECT_THAT(open_error(), HasSubstr("depth.txt:1: depth image"));
+  EXPECT_THAT(open_error(), HasSubstr("File name too long"));
 
   // An 8-bit image is found when its frame is read.
   test::write_png_gray8(dir / "depth/eight.png", kW, kH, std::vector<std::uint8_t>(kW * kH, 9));
