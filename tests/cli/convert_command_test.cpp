@@ -139,7 +139,7 @@ TEST(CliConvert, VoxelKeepsTheFirstPointOfEachVoxel) {
       "convert --voxel -1 " + quoted((dir / "dense.ply").string()) + " " + quoted((dir / "x.ply").string()),
       dir.path());
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_THAT(bad.err, HasSubstr("--voxel must be a positive size"));
+  EXPECT_THAT(bad.err, HasSubstr("--voxel: must be a finite number > 0, got '-1'"));
 }
 
 TEST(CliConvert, ErrorsExitNonZeroWithAMessage) {

@@ -104,7 +104,7 @@ TEST_F(RunFaults, FarPointsAreDroppedAndCounted) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(profile().at("stages").at("preprocess").at("points_out").get<double>(), 10.0);
   r = run(input, " --max-point-distance nan");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--max-point-distance"), std::string::npos) << r.err;
 }
 

@@ -75,7 +75,7 @@ TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
                   err),
               0)
         << stride;
-    EXPECT_NE(slurp(err).find("--stride must be a finite number >= 0"), std::string::npos) << slurp(err);
+    EXPECT_NE(slurp(err).find("--stride: must be a finite number >= 0"), std::string::npos) << slurp(err);
   }
   fs::remove(err);
 }

@@ -26,6 +26,7 @@
 #include "engine/semantic/rules/wall_bands.hpp"
 #include "engine/semantic/rules/wall_feet.hpp"
 #include "kernels/simd_level.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
 
@@ -141,12 +142,14 @@ void add_classify_command(CLI::App& app) {
   auto options = std::make_shared<ClassifyOptions>();
   CLI::App* cmd = app.add_subcommand("classify", "Run the DGCNN semantic network");
   cmd->add_option("input", options->input, "A PLY/PCD cloud or a sequence folder to label")->check(CLI::ExistingPath);
-  cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)");
+  cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)")->check(finite_non_negative());
   add_sequence_input_options(cmd, options->sequence);
   cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
-  cmd->add_option("--stride", options->stride, "Metres between block origins (default 0: three quarters of the block size)");
-  cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)");
-  cmd->add_option("--seed", options->seed, "Sampling seed (default 1)");
+  cmd->add_option("--stride", options->stride, "Metres between block origins (default 0: three quarters of the block size)")
+      ->check(finite_non_negative());
+  cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)")
+      ->check(finite_positive());
+  cmd->add_option("--seed", options->seed, "Sampling seed (default 1)")->check(finite_non_negative());
   cmd->add_flag("!--no-ramp-veto", options->ramp_veto,
                 "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
   cmd->add_flag("!--no-wall-bands", options->wall_bands,

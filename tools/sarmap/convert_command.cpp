@@ -17,6 +17,7 @@
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/io/sequence_writer.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
@@ -146,7 +147,8 @@ void add_convert_command(CLI::App& app) {
       ->required();
   cmd->add_option("out", args->out, "Output .ply / .pcd file, or a folder for a sarmap sequence")->required();
   cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
-  cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)");
+  cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)")
+      ->check(finite_positive());
   add_sequence_input_options(cmd, args->sequence);
   cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
   cmd->callback([args] { run_convert(*args); });

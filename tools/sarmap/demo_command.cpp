@@ -13,6 +13,7 @@
 #include "engine/io/atomic_file.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/demo_sequence_cache.hpp"
 #include "tools/sarmap/progress.hpp"
@@ -147,8 +148,12 @@ void add_demo_command(CLI::App& app) {
       "demo", "Simulate the default arena (cached), build its maps, score them and print a summary");
   cmd->add_option("--out", args->out, "Output folder (sequence/, run/, eval.json)")->capture_default_str();
   cmd->add_option("--arena", args->arena, "Arena description instead of datasets/arenas/esogu-6x4.json");
-  cmd->add_option("--seed", args->seed, "Seed of the simulated sensor noise")->capture_default_str();
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed of the simulated sensor noise")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("--classifier", args->classifier, "dgcnn, geometric or labels (as for sarmap run)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "DGCNN weights instead of datasets/models/ramps-dgcnn.safetensors");

@@ -26,6 +26,7 @@
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/ros_map_files.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
@@ -212,7 +213,9 @@ void add_run_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "Build the maps from a scan sequence");
   cmd->add_option("INPUT", o->input, "Sequence folder (sarmap, TUM, 7-Scenes) or a PLY/PCD file")->required();
   cmd->add_option("--out", o->out, "Output folder")->required();
-  cmd->add_option("--voxel", o->voxel, "Metric map voxel size in metres")->capture_default_str();
+  cmd->add_option("--voxel", o->voxel, "Metric map voxel size in metres")
+      ->capture_default_str()
+      ->check(finite_positive());
   cmd->add_option("--classifier", o->classifier,
                   "Where point classes come from: dgcnn (the network), geometric (normal-based baseline, "
                   "no model) or labels (the input's label property)")
@@ -226,7 +229,8 @@ void add_run_command(CLI::App& app) {
                   "Metres between DGCNN block origins; below the block size the blocks overlap and each "
                   "point's scores are averaged over the blocks that hold it (0 = three quarters of the block size, "
                   "the default; the block size = no overlap)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_flag("!--no-ramp-veto", o->ramp_veto,
                "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
                "inclined ramp on a surface steeper than 60 degrees become wall or other)");
@@ -240,21 +244,27 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("!--no-wall-feet", o->wall_feet,
                "Keep the network's wall labels at the floor's height (by default, points labelled wall at "
                "most 5 mm above the mean height of the terrain around them become terrain)");
-  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("--keep-radius", o->keep_radius,
                   "After each scan, forget map blocks farther than this from the sensor (m); 0 = keep all")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("--max-blocks", o->max_blocks,
                   "Keep at most this many map blocks (8^3 voxels each), forgetting the farthest from the "
                   "sensor first; 0 = no limit")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   cmd->add_option("--max-point-distance", o->max_point_distance,
                   "Drop points farther than this from their scan's origin (m), counted in profile.json; "
                   "0 = keep all")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_non_negative());
   add_sequence_input_options(cmd, o->sequence);
   cmd->add_flag("--strict", o->strict,
                 "Stop at the first frame that cannot be read or scan the map refuses (by default such a scan "

@@ -10,6 +10,7 @@
 #include "engine/sim/arena.hpp"
 #include "engine/sim/random_arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 
 namespace sarmap::cli {
@@ -67,11 +68,11 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("simulate", "Simulate a sensor in an arena and write a sequence folder");
   cmd->add_option("arena", args->arena, "Arena description (datasets/arenas/*.json)");
   cmd->add_option("--out", args->out, "Output sequence folder");
-  cmd->add_option("--seed", args->seed, "Seed of the sensor noise (default 0)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", args->seed, "Seed of the sensor noise (default 0)")->check(finite_non_negative());
   cmd->add_option("--frames", args->frames, "Simulate only the first N frames")->check(CLI::PositiveNumber);
   cmd->add_flag("--quiet", args->quiet, "No progress output");
   cmd->add_option("--random", args->random, "Generate a random NIST-like arena from this seed")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--write-arena", args->write_arena, "Save the generated arena's JSON (with --random)");
   cmd->callback([args] { run_simulate(*args); });
 }

@@ -1,0 +1,34 @@
+#include "tools/sarmap/number_checks.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+namespace sarmap::cli {
+namespace {
+
+// Empty when `text` is a finite number above (or, with allow_zero, at) zero; else why not.
+std::string check_number(const std::string& text, bool allow_zero) {
+  const char* start = text.c_str();
+  char* end = nullptr;
+  const double value = std::strtod(start, &end);
+  const std::string wanted = allow_zero ? "a finite number >= 0" : "a finite number > 0";
+  if (end == start || *end != '\0' || !std::isfinite(value) || value < 0 || (!allow_zero && value == 0)) {
+    return "must be " + wanted + ", got '" + text + "'";
+  }
+  return {};
+}
+
+}  // namespace
+
+const CLI::Validator& finite_non_negative() {
+  static const CLI::Validator check([](std::string& text) { return check_number(text, true); }, "NUMBER>=0");
+  return check;
+}
+
+const CLI::Validator& finite_positive() {
+  static const CLI::Validator check([](std::string& text) { return check_number(text, false); }, "NUMBER>0");
+  return check;
+}
+
+}  // namespace sarmap::cli
