@@ -248,6 +248,10 @@ TrajectorySpec parse_trajectory(const Json& j, const std::string& source) {
   if (length < 1e-9) f.fail("waypoints", "must not all be the same point");
   t.height = f.positive("height");
   t.frames = f.count("frames", 1);
+  // The trajectory's poses are made up front: 1e8 frames took over 4 GB before the first one.
+  if (t.frames > kMaxTrajectoryFrames) {
+    f.fail("frames", "must be at most " + std::to_string(kMaxTrajectoryFrames) + ", got " + std::to_string(t.frames));
+  }
   t.pitch_deg = f.number_or("pitch_deg", 0);
   if (!(t.pitch_deg > -90 && t.pitch_deg < 90)) f.fail("pitch_deg", "must be in (-90, 90), got " + show(t.pitch_deg));
   f.finish();

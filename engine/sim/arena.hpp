@@ -67,6 +67,9 @@ struct ArenaElement {
 // "wall", "inclined_ramp", "flat_ramp", "box" or "mesh".
 std::string_view element_type_name(const ArenaElement& element);
 
+// A waypoint trajectory's frame count is at most this (an hour at 30 Hz).
+inline constexpr std::size_t kMaxTrajectoryFrames = 108'000;
+
 struct TrajectorySpec {
   // Either waypoints (xy) driven at `height` above the surface under them...
   std::vector<Eigen::Vector2d> waypoints;

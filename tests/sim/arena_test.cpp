@@ -146,6 +146,8 @@ TEST(Arena, RejectsEveryMalformedDescription) {
        "trajectory: waypoints must be an array of at least two"},
       {"zero frames", [](json& j) { j["trajectory"]["frames"] = 0; }, "trajectory: frames must be an integer >= 1, got 0"},
       {"fraction frames", [](json& j) { j["trajectory"]["frames"] = 1.5; }, "trajectory: frames must be an integer"},
+      {"too many frames", [](json& j) { j["trajectory"]["frames"] = 100'000'000; },
+       "trajectory: frames must be at most 108000, got 100000000"},
       {"negative height", [](json& j) { j["trajectory"]["height"] = -0.5; }, "trajectory: height must be positive"},
       {"pitch out of range", [](json& j) { j["trajectory"]["pitch_deg"] = -95; }, "trajectory: pitch_deg must be in (-90, 90)"},
       {"poses and waypoints", [](json& j) { j["trajectory"]["poses"] = json::array(); },
