@@ -19,6 +19,7 @@ namespace {
 
 // Larger images are refused before allocating (a corrupt header could ask for gigabytes).
 constexpr png_uint_32 kMaxDimension = 1u << 15;
+constexpr double kMaxDeflateRatio = 1032.0;
 
 struct PngSource {
   const unsigned char* data;
@@ -129,6 +130,16 @@ DepthImage read_depth_png(const std::filesystem::path& path) {
     throw Error(ErrorCode::InvalidData, file + ": image size " + std::to_string(h.width) + "x" +
                                             std::to_string(h.height) + " is outside 1.." +
                                             std::to_string(kMaxDimension));
+  }
+  // Deflate cannot expand data more than 1032 times, so a file this small
+  // cannot hold the image it declares: refuse it before allocating for it (a
+  // 200-byte file declaring 32768 x 32768 had allocated 2 GB).
+  const double declared_bytes = (2.0 * h.width + 1.0) * h.height;  // samples and a filter byte per row
+  if (declared_bytes > kMaxDeflateRatio * static_cast<double>(bytes.size())) {
+    throw Error(ErrorCode::InvalidData, file + ": declares a " + std::to_string(h.width) + "x" +
+                                            std::to_string(h.height) + " image but holds only " +
+                                            std::to_string(bytes.size()) +
+                                            " bytes, too few for any compression of it");
   }
   if (h.interlace != PNG_INTERLACE_NONE) png_set_interlace_handling(reader.png);
 

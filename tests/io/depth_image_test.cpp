@@ -72,6 +72,39 @@ TEST(DepthPng, TruncatedFileIsAnErrorAtEveryCutPoint) {
   EXPECT_THAT(at_half, HasSubstr("truncated"));
 }
 
+// CRC-32 (the PNG chunk checksum) of bytes, bit by bit.
+std::uint32_t crc32_of(const std::string& bytes) {
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (const char c : bytes) {
+    crc ^= static_cast<std::uint8_t>(c);
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+void put_u32_big_endian(std::string& bytes, std::size_t at, std::uint32_t value) {
+  for (int i = 0; i < 4; ++i) bytes[at + i] = static_cast<char>(value >> (24 - 8 * i));
+}
+
+// A small file whose header declares a huge image is refused before the
+// reader allocates for it (32768 x 32768 took 2 GB before its error).
+TEST(DepthPng, AHeaderDeclaringMoreThanTheFileCanHoldIsRefused) {
+  test::ScratchFolder dir;
+  test::write_png_gray16(dir / "small.png", 8, 8, ramp(8, 8));
+  std::string bytes = slurp(dir / "small.png");
+  // Signature (8), IHDR length (4), "IHDR" (4), width (4), height (4), ..., CRC over type and data at 29.
+  ASSERT_EQ(bytes.substr(12, 4), "IHDR");
+  put_u32_big_endian(bytes, 16, 32768);
+  put_u32_big_endian(bytes, 20, 32768);
+  put_u32_big_endian(bytes, 29, crc32_of(bytes.substr(12, 17)));
+  std::ofstream(dir / "huge.png", std::ios::binary) << bytes;
+  EXPECT_THAT(error_message([&] { read_depth_png(dir / "huge.png"); }),
+              HasSubstr("huge.png: declares a 32768x32768 image but holds only"));
+  // An image at the edge of what deflate can pack stays readable: all zeros, 1024 x 1024.
+  test::write_png_gray16(dir / "zeros.png", 1024, 1024, std::vector<std::uint16_t>(1024 * 1024, 0));
+  EXPECT_EQ(read_depth_png(dir / "zeros.png").width, 1024);
+}
+
 TEST(DepthPng, CorruptDataMissingFileAndNonPngAreErrors) {
   test::ScratchFolder dir;
   test::write_png_gray16(dir / "good.png", 8, 8, ramp(8, 8));
