@@ -2,18 +2,18 @@
 // Python dict literal; only the subset numpy writes is accepted.
 #include "engine/io/npy.hpp"
 
-#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <limits>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/element_count.hpp"
 
 namespace sarmap {
 namespace {
@@ -171,19 +171,11 @@ NpyArray read_npy_f32(const std::filesystem::path& path) {
   array.shape = shape->second.tuple;
   const std::size_t data_start = header_start + header_len;
   const std::size_t data_bytes = bytes.size() - data_start;
-  // In checked arithmetic: a shape such as (2**40, 2**40) wraps to 0 elements
-  // in size_t and would pass for an empty array of a huge shape.
-  const bool empty = std::find(array.shape.begin(), array.shape.end(), std::size_t{0}) != array.shape.end();
-  std::size_t count = empty ? 0 : 1;
-  if (!empty) {
-    for (std::size_t d : array.shape) {
-      if (count > std::numeric_limits<std::size_t>::max() / 4 / d) {
-        throw Error(ErrorCode::Parse,
-                    at_offset(src, header_start, "shape holds more elements than memory can address"));
-      }
-      count *= d;
-    }
+  const std::optional<std::size_t> checked_count = checked_element_count(array.shape, 4);
+  if (!checked_count) {
+    throw Error(ErrorCode::Parse, at_offset(src, header_start, "shape holds more elements than memory can address"));
   }
+  const std::size_t count = *checked_count;
   if (data_bytes != count * 4) {
     throw Error(ErrorCode::Parse, at_offset(src, data_start, "shape needs " + std::to_string(count * 4) +
                                                                  " bytes of data, " +

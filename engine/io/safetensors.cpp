@@ -5,13 +5,13 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
-#include <limits>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/element_count.hpp"
 
 namespace sarmap {
 namespace {
@@ -70,20 +70,11 @@ SafetensorsTensor parse_entry(const std::string& name, const nlohmann::json& ent
          where + ": data_offsets [" + std::to_string(t.begin) + ", " + std::to_string(t.end) +
              "] run past the end of the data (" + std::to_string(data_size) + " bytes; file truncated?)");
   }
-  // In checked arithmetic: a shape such as [2^32, 2^32] wraps to 0 elements
-  // in size_t and would pass for an empty tensor of a huge shape.
-  const bool empty = std::find(t.shape.begin(), t.shape.end(), std::size_t{0}) != t.shape.end();
-  std::size_t count = empty ? 0 : 1;
-  if (!empty) {
-    for (std::size_t d : t.shape) {
-      if (count > std::numeric_limits<std::size_t>::max() / *size / d) {
-        fail(ErrorCode::Parse, source,
-             where + ": shape " + shape_text(t.shape) + " holds more elements than memory can address");
-      }
-      count *= d;
-    }
+  const std::optional<std::size_t> count = checked_element_count(t.shape, *size);
+  if (!count) {
+    fail(ErrorCode::Parse, source, where + ": shape " + shape_text(t.shape) + " holds more elements than memory can address");
   }
-  const std::size_t expected = count * *size;
+  const std::size_t expected = *count * *size;
   if (t.end - t.begin != expected) {
     fail(ErrorCode::Parse, source,
          where + ": " + std::to_string(t.end - t.begin) + " bytes of data, but shape " + shape_text(t.shape) +
