@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <string>
 #include <sys/stat.h>
+#include <system_error>
 #include <unistd.h>
 
 #include "engine/core/error.hpp"
@@ -46,6 +47,13 @@ FileBytes read_file_bytes(const std::filesystem::path& path) {
     done += static_cast<std::size_t>(got);
   }
   return FileBytes(std::move(data), done);
+}
+
+std::string why_not_a_regular_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec)) return {};
+  const bool refused = ec && ec != std::errc::no_such_file_or_directory;
+  return refused ? ": " + ec.message() : std::string(" does not exist");
 }
 
 }  // namespace sarmap

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <string_view>
 
 namespace sarmap {
@@ -25,5 +26,11 @@ class FileBytes {
 
 // Throws sarmap::Error (Io) naming the path when it cannot be opened or read.
 FileBytes read_file_bytes(const std::filesystem::path& path);
+
+// Empty when `path` names a regular file; otherwise why not, to follow the
+// path in an error message: " does not exist", or ": " and the system's
+// reason for a name it refuses (a part longer than NAME_MAX, ...), which
+// std::filesystem::is_regular_file(path) would throw as a filesystem_error.
+std::string why_not_a_regular_file(const std::filesystem::path& path);
 
 }  // namespace sarmap

@@ -2,10 +2,10 @@
 
 #include <span>
 #include <string>
-#include <system_error>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/sarmap_sequence_manifest.hpp"
 
@@ -72,13 +72,8 @@ std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& fo
   SequenceManifest manifest = read_sequence_manifest(json);
   for (std::size_t i = 0; i < manifest.frames.size(); ++i) {
     const std::filesystem::path file = folder / manifest.frames[i].file;
-    // The error_code form: a name the system refuses (a part longer than
-    // NAME_MAX, ...) is then an answer to report, not a filesystem_error.
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) {
-      const bool refused = ec && ec != std::errc::no_such_file_or_directory;
-      throw Error(ErrorCode::Io, json.string() + ": frames[" + std::to_string(i) + "].file: " + file.string() +
-                                     (refused ? ": " + ec.message() : std::string(" does not exist")));
+    if (const std::string why = why_not_a_regular_file(file); !why.empty()) {
+      throw Error(ErrorCode::Io, json.string() + ": frames[" + std::to_string(i) + "].file: " + file.string() + why);
     }
   }
   return std::make_unique<SarmapSequence>(folder, std::move(manifest));

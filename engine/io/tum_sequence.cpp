@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 #include <string>
-#include <system_error>
 
 #include "engine/core/error.hpp"
 #include "engine/io/depth_image_back_projection.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/io/intrinsics.hpp"
 #include "engine/io/sequence_text.hpp"
 
@@ -128,14 +128,8 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
           at_line(list_name, row.line, "timestamp " + row.tokens[0] + " is earlier than the line before"));
     }
     const std::filesystem::path file = folder / row.tokens[1];
-    // The error_code form: a name the system refuses (a part longer than
-    // NAME_MAX, ...) is then an answer to report, not a filesystem_error.
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) {
-      const bool refused = ec && ec != std::errc::no_such_file_or_directory;
-      throw Error(ErrorCode::Io, at_line(list_name, row.line,
-                                         "depth image " + file.string() +
-                                             (refused ? ": " + ec.message() : std::string(" does not exist"))));
+    if (const std::string why = why_not_a_regular_file(file); !why.empty()) {
+      throw Error(ErrorCode::Io, at_line(list_name, row.line, "depth image " + file.string() + why));
     }
     times.push_back(t);
     files.push_back(file);
