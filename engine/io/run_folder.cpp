@@ -172,8 +172,9 @@ void verify_run_folder(const fs::path& folder) {
       throw Error(ErrorCode::InvalidData, path.string() + ": listed in manifest.json but missing");
     }
     const auto expected_bytes = output["bytes"].get<std::uint64_t>();
-    if (fs::file_size(path) != expected_bytes) {
-      throw Error(ErrorCode::InvalidData, path.string() + ": " + std::to_string(fs::file_size(path)) +
+    const std::uintmax_t bytes = fs::file_size(path);
+    if (bytes != expected_bytes) {
+      throw Error(ErrorCode::InvalidData, path.string() + ": " + std::to_string(bytes) +
                                               " bytes, manifest.json says " + std::to_string(expected_bytes) +
                                               " (written by another run or changed since)");
     }

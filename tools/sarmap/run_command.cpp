@@ -50,15 +50,23 @@ nlohmann::ordered_json input_record(const fs::path& input) {
   return record;
 }
 
+// The CLI's validators refuse these already; RunOptions built in code (demo,
+// tests) are checked the same way. !(x >= 0) so that NaN fails too.
+void require_finite_non_negative(double value, const char* flag) {
+  if (!(value >= 0) || !std::isfinite(value)) {
+    throw Error(ErrorCode::InvalidArgument, std::string("run: ") + flag + " must be a finite number >= 0");
+  }
+}
+
 }  // namespace
 
 RunSummary run_pipeline(const RunOptions& o) {
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "run: --out DIR is required");
   if (o.threads < 0) throw Error(ErrorCode::InvalidArgument, "run: --threads must be >= 0 (0 = all cores)");
-  // Written as !(x >= 0) with a finiteness test, so NaN and infinity fail too.
-  if (!(o.max_range >= 0) || !std::isfinite(o.max_range)) {
-    throw Error(ErrorCode::InvalidArgument, "run: --max-range must be a finite number >= 0");
-  }
+  require_finite_non_negative(o.max_range, "--max-range");
+  require_finite_non_negative(o.max_point_distance, "--max-point-distance");
+  require_finite_non_negative(o.keep_radius, "--keep-radius");
+  require_finite_non_negative(o.block_stride, "--block-stride");
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -69,20 +77,11 @@ RunSummary run_pipeline(const RunOptions& o) {
   pipeline::MapperConfig config;
   config.voxel = o.voxel;
   config.max_range = o.max_range;
-  if (!(o.max_point_distance >= 0) || !std::isfinite(o.max_point_distance)) {
-    throw Error(ErrorCode::InvalidArgument, "run: --max-point-distance must be a finite number >= 0");
-  }
   config.max_point_distance = o.max_point_distance;
-  if (!(o.keep_radius >= 0) || !std::isfinite(o.keep_radius)) {
-    throw Error(ErrorCode::InvalidArgument, "run: --keep-radius must be a finite number >= 0");
-  }
   config.bounds.keep_radius = o.keep_radius;
   config.bounds.max_blocks = o.max_blocks;
   config.classifier.kind = o.classifier;
   config.classifier.dgcnn.min_points = o.min_block_points;
-  if (!(o.block_stride >= 0) || !std::isfinite(o.block_stride)) {
-    throw Error(ErrorCode::InvalidArgument, "run: --block-stride must be a finite number >= 0");
-  }
   config.classifier.dgcnn.stride = o.block_stride;
   config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
   config.classifier.wall_bands.enabled = o.wall_bands;

@@ -19,7 +19,7 @@ class SkippedScans {
   // `row_open`: the scan already has its profile row, which is dropped.
   void add(std::size_t scan, const std::string& source, const Error& error, bool row_open);
 
-  std::size_t count() const { return count_; }
+  std::size_t count() const { return profile_.skipped_scans(); }
   const std::string& first_error() const { return first_error_; }
 
  private:
@@ -27,7 +27,6 @@ class SkippedScans {
 
   StageProfile& profile_;
   bool strict_;
-  std::size_t count_ = 0;
   std::string first_error_;
 };
 
