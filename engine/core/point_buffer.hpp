@@ -15,6 +15,7 @@
 
 #include "engine/core/aligned_vector.hpp"
 #include "engine/core/bounds.hpp"
+#include "engine/core/state_stream.hpp"
 
 namespace sarmap {
 
@@ -102,6 +103,12 @@ class PointBuffer {
   Bounds bounds() const;
   // Copies the set of enabled attributes (not their values) from other.
   void enable_attributes_of(const PointBuffer& other);
+
+  // Every point and attribute, for a checkpoint (state_stream.hpp).
+  void save_state(StateWriter& out) const;
+  // Replaces the points with saved ones. Throws sarmap::Error (Parse) naming
+  // the offset; unchanged then.
+  void load_state(StateReader& in);
 
  private:
   // Compacts every array in place, keeping point i where keep[i]; returns how many went.

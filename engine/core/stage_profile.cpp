@@ -133,4 +133,60 @@ std::string StageProfile::json() const {
   return j.dump(2);
 }
 
+void StageProfile::save_state(StateWriter& out) const {
+  out.tag("PROF");
+  out.put<std::uint64_t>(order_.size());
+  for (const std::string& name : order_) out.put_string(name);
+  out.put<std::uint64_t>(per_scan_.size());
+  for (const std::vector<double>& row : per_scan_) out.put_vector(row);
+  for (const std::map<std::string, double>& counters : counters_) {
+    out.put<std::uint64_t>(counters.size());
+    for (const auto& [name, value] : counters) {
+      out.put_string(name);
+      out.put(value);
+    }
+  }
+  out.put(wall_s_);
+  out.put<std::uint64_t>(skipped_.size());
+  for (const SkippedScan& s : skipped_) {
+    out.put<std::uint64_t>(s.index);
+    out.put_string(s.source);
+    out.put_string(s.error);
+  }
+  out.put<std::uint64_t>(skipped_count_);
+}
+
+void StageProfile::load_state(StateReader& in) {
+  in.expect_tag("PROF");
+  std::vector<std::string> order(in.get_count(8));
+  for (std::string& name : order) name = in.get_string();
+  std::vector<std::vector<double>> per_scan(in.get_count(8));
+  for (std::vector<double>& row : per_scan) {
+    row = in.get_vector<double>();
+    if (row.size() > order.size()) in.fail("a profile row holds more stages than the profile names");
+  }
+  std::vector<std::map<std::string, double>> counters(order.size());
+  for (std::map<std::string, double>& stage : counters) {
+    const std::size_t n = in.get_count(16);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::string name = in.get_string();
+      stage[std::move(name)] = in.get<double>();
+    }
+  }
+  const auto wall_s = in.get<double>();
+  std::vector<SkippedScan> skipped(in.get_count(24));
+  for (SkippedScan& s : skipped) {
+    s.index = static_cast<std::size_t>(in.get<std::uint64_t>());
+    s.source = in.get_string();
+    s.error = in.get_string();
+  }
+  const auto skipped_count = in.get<std::uint64_t>();
+  order_ = std::move(order);
+  per_scan_ = std::move(per_scan);
+  counters_ = std::move(counters);
+  wall_s_ = wall_s;
+  skipped_ = std::move(skipped);
+  skipped_count_ = static_cast<std::size_t>(skipped_count);
+}
+
 }  // namespace sarmap

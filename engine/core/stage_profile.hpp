@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/core/state_stream.hpp"
+
 namespace sarmap {
 
 inline constexpr int kProfileFormatVersion = 1;
@@ -61,6 +63,12 @@ class StageProfile {
 
   std::string table() const;
   std::string json() const;
+
+  // Every row, counter and skip, for a checkpoint (state_stream.hpp): a
+  // resumed run's profile goes on counting where the saved one stopped.
+  void save_state(StateWriter& out) const;
+  // Throws sarmap::Error (Parse) naming the offset; unchanged then.
+  void load_state(StateReader& in);
 
  private:
   std::size_t stage_index(std::string_view stage);
