@@ -20,6 +20,7 @@
 #include "engine/sim/simulator.hpp"
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/route_planner.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap {
 namespace {
@@ -155,13 +156,6 @@ TEST(TopoArena, SameMapsOnOneAndTwoThreads) {
   EXPECT_EQ(one.first, two.first);
   EXPECT_EQ(one.second, two.second);
 }
-
-// Accuracy and coverage cases: the release build runs them, the sanitizer builds skip them.
-#ifdef SARMAP_SANITIZED
-#define RELEASE_ONLY() GTEST_SKIP() << "coverage case: release build only"
-#else
-#define RELEASE_ONLY() (void)0
-#endif
 
 TEST(TopoArena, BuildingArena) {
   RELEASE_ONLY();

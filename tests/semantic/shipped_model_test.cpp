@@ -21,6 +21,7 @@
 #include "engine/pipeline/point_classifier.hpp"
 #include "engine/sim/random_arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap {
 namespace {
@@ -119,6 +120,7 @@ pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false
 }
 
 TEST(ShippedModel, KeepsItsRecordedAccuracyOnAHeldOutArena) {
+  RELEASE_ONLY();
   const pipeline::ClassifierConfig dgcnn = shipped_model(false);
   const eval::ConfusionMatrix net = classify_held_out_scans(dgcnn);
   pipeline::ClassifierConfig geometric;
@@ -135,6 +137,7 @@ TEST(ShippedModel, KeepsItsRecordedAccuracyOnAHeldOutArena) {
 }
 
 TEST(ShippedModel, SteepSurfaceVetoKeepsFarWallBandsWallsUnderASteepCamera) {
+  RELEASE_ONLY();
   const eval::ConfusionMatrix net = classify_held_out_scans(shipped_model(false), kSteepPitchArena);
   const eval::ConfusionMatrix vetoed = classify_held_out_scans(shipped_model(true), kSteepPitchArena);
   print_figures("dgcnn", net);
@@ -145,6 +148,7 @@ TEST(ShippedModel, SteepSurfaceVetoKeepsFarWallBandsWallsUnderASteepCamera) {
 }
 
 TEST(ShippedModel, RampSideFacesTurnWallLabelsUnderRampDecksIntoRamp) {
+  RELEASE_ONLY();
   const eval::ConfusionMatrix vetoed = classify_held_out_scans(shipped_model(true), kRampSideArena);
   const eval::ConfusionMatrix sides = classify_held_out_scans(shipped_model(true, true), kRampSideArena);
   print_figures("dgcnn + veto", vetoed);
@@ -156,6 +160,7 @@ TEST(ShippedModel, RampSideFacesTurnWallLabelsUnderRampDecksIntoRamp) {
 }
 
 TEST(ShippedModel, WallBandsTurnALongWallTheNetworkCalledOtherIntoWall) {
+  RELEASE_ONLY();
   const eval::ConfusionMatrix before = classify_frames(shipped_model(true, true), kSteepPitchArena, kFirstFrames);
   const eval::ConfusionMatrix after = classify_frames(shipped_model(true, true, true), kSteepPitchArena, kFirstFrames);
   print_figures("dgcnn + veto + sides", before);
@@ -167,6 +172,7 @@ TEST(ShippedModel, WallBandsTurnALongWallTheNetworkCalledOtherIntoWall) {
 }
 
 TEST(ShippedModel, WallFeetTurnFloorLabelledWallIntoTerrain) {
+  RELEASE_ONLY();
   const eval::ConfusionMatrix before = classify_held_out_scans(shipped_model(true, true, true));
   const eval::ConfusionMatrix after = classify_held_out_scans(shipped_model(true, true, true, true));
   print_figures("dgcnn + veto + sides + bands", before);
@@ -181,6 +187,7 @@ TEST(ShippedModel, WallFeetTurnFloorLabelledWallIntoTerrain) {
 }
 
 TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
+  RELEASE_ONLY();
   pipeline::ClassifierConfig shipped;  // what `sarmap run` uses by default
   shipped.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
   const eval::ConfusionMatrix c = classify_held_out_scans(shipped);
