@@ -1,7 +1,10 @@
 #include "engine/segments/labelled_voxels.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 namespace sarmap::segments {
 namespace {
@@ -10,10 +13,17 @@ constexpr int kBits = 21;
 constexpr std::int64_t kHalf = std::int64_t{1} << (kBits - 1);
 // A voxel size of 0 keeps points a millimetre apart.
 constexpr double kExactVoxel = 0.001;
+constexpr std::size_t kInitialVoxels = 4096;
+
+std::string metres(double inverse_voxel) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g m", 1.0 / inverse_voxel);
+  return text;
+}
 
 }  // namespace
 
-LabelledVoxels::LabelledVoxels(double voxel) : index_(4096) {
+LabelledVoxels::LabelledVoxels(double voxel) : index_(kInitialVoxels) {
   const double size = voxel > 0 ? voxel : kExactVoxel;
   inverse_voxel_ = 1.0 / size;
   reach_ = size * static_cast<double>(kHalf - 1);
@@ -71,6 +81,87 @@ void LabelledVoxels::set_label(std::uint32_t i, ClassId l) {
   v.fill(0);
   v[static_cast<std::size_t>(l)] = std::max<std::uint16_t>(most, 1);
   label[i] = static_cast<std::uint8_t>(l);
+}
+
+void LabelledVoxels::save_state(StateWriter& out) const {
+  out.tag("LVOX");
+  out.put(inverse_voxel_);
+  out.put_vector(index_.keys());
+  out.put_vector(x), out.put_vector(y), out.put_vector(z);
+  out.put_vector(range);
+  out.put_vector(scan);
+  out.put_vector(label);
+  out.put_vector(owner);
+  out.put_vector(pending);
+  out.put_vector(rounds);
+  out.put_vector(votes_);
+}
+
+void LabelledVoxels::load_state(StateReader& in) {
+  in.expect_tag("LVOX");
+  const auto inverse_voxel = in.get<double>();
+  if (inverse_voxel != inverse_voxel_) {
+    in.fail("the points were saved with voxels of " + metres(inverse_voxel) + ", these are " +
+            metres(inverse_voxel_));
+  }
+  const std::vector<std::uint64_t> keys = in.get_vector<std::uint64_t>();
+  // Inserted in their order, every key gets back its index, and a table
+  // grown from the same capacity by the same keys is the same table.
+  FlatKeyIndex index(kInitialVoxels);
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (index.find_or_insert(keys[i]) != i) {
+      in.fail("voxel key " + std::to_string(i) + " repeats an earlier one");
+    }
+  }
+  const std::size_t n = keys.size();
+  auto column = [&]<class T>(std::vector<T>& values, const char* name) {
+    values = in.get_vector<T>();
+    if (values.size() != n) {
+      in.fail(std::string("the ") + name + " column holds " + std::to_string(values.size()) +
+              " points, not " + std::to_string(n));
+    }
+  };
+  std::vector<float> xs, ys, zs, ranges;
+  std::vector<std::uint32_t> scans;
+  std::vector<std::uint8_t> labels, pending_classes, search_rounds;
+  std::vector<std::int32_t> owners;
+  std::vector<std::array<std::uint16_t, kClassCount>> votes;
+  column(xs, "x"), column(ys, "y"), column(zs, "z");
+  column(ranges, "range");
+  column(scans, "scan");
+  column(labels, "label");
+  column(owners, "owner");
+  column(pending_classes, "pending");
+  column(search_rounds, "rounds");
+  column(votes, "votes");
+  // A label indexes the votes; a pending class names a pending list.
+  for (std::size_t i = 0; i < n; ++i) {
+    if (labels[i] >= kClassCount || pending_classes[i] >= kClassCount) {
+      in.fail("point " + std::to_string(i) + " has class " + std::to_string(labels[i]) +
+              " and pending class " + std::to_string(pending_classes[i]) + ", beyond the " +
+              std::to_string(kClassCount) + " classes");
+    }
+    // A stored float may round into the next voxel, never farther; a point
+    // far from its voxel (or not finite) would corrupt every sum it joins.
+    const std::array<float, 3> p{xs[i], ys[i], zs[i]};
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::int64_t cell = static_cast<std::int64_t>((keys[i] >> (kBits * axis)) & ((1u << kBits) - 1)) - kHalf;
+      const double at = p[axis] * inverse_voxel_;
+      if (!(std::abs(p[axis]) < 2 * reach_) || std::abs(static_cast<std::int64_t>(std::floor(at)) - cell) > 1) {
+        in.fail("point " + std::to_string(i) + " at " + std::to_string(p[axis]) + " on axis " + std::to_string(axis) +
+                " lies outside its voxel");
+      }
+    }
+  }
+  index_ = std::move(index);
+  x = std::move(xs), y = std::move(ys), z = std::move(zs);
+  range = std::move(ranges);
+  scan = std::move(scans);
+  label = std::move(labels);
+  owner = std::move(owners);
+  pending = std::move(pending_classes);
+  rounds = std::move(search_rounds);
+  votes_ = std::move(votes);
 }
 
 }  // namespace sarmap::segments

@@ -14,6 +14,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/flat_key_index.hpp"
+#include "engine/core/state_stream.hpp"
 
 namespace sarmap::segments {
 
@@ -28,6 +29,8 @@ class LabelledVoxels {
   explicit LabelledVoxels(double voxel);
 
   double reach() const { return reach_; }
+  // The voxel's edge, metres (a millimetre for voxel 0).
+  double voxel() const { return 1.0 / inverse_voxel_; }
   std::size_t size() const { return x.size(); }
 
   // The voxel holding p (nullopt beyond reach or for NaN), as a packed key.
@@ -43,6 +46,15 @@ class LabelledVoxels {
   void set_label(std::uint32_t i, ClassId label);
 
   Eigen::Vector3d position(std::uint32_t i) const { return {x[i], y[i], z[i]}; }
+
+  // Every column, the votes and the voxel keys in insertion order, for a
+  // checkpoint: keys recomputed from the stored positions could fall into a
+  // neighbouring voxel.
+  void save_state(StateWriter& out) const;
+  // Replaces the points with saved ones (same voxel size), or throws
+  // sarmap::Error (Parse) and leaves them unchanged. Owners and scans are
+  // checked by the caller, which knows the segments and scans.
+  void load_state(StateReader& in);
 
   // Per point, indexed alike.
   std::vector<float> x, y, z;

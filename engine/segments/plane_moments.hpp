@@ -13,11 +13,20 @@ namespace sarmap::segments {
 
 class PlaneMoments {
  public:
+  PlaneMoments() = default;
+  // Sums as sum() and outer() gave them (a checkpoint): a rebuild by adding
+  // the points again would round differently.
+  PlaneMoments(std::size_t count, const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer)
+      : count_(count), sum_(sum), outer_(outer) {}
+
   void add(const Eigen::Vector3d& p);
   void remove(const Eigen::Vector3d& p);
   PlaneMoments& operator+=(const PlaneMoments& other);
 
   std::size_t count() const { return count_; }
+  const Eigen::Vector3d& sum() const { return sum_; }
+  // Sum of p p^T.
+  const Eigen::Matrix3d& outer() const { return outer_; }
   Eigen::Vector3d centroid() const;
   // Population covariance of the points.
   Eigen::Matrix3d covariance() const;

@@ -17,6 +17,7 @@
 #include "engine/segments/plane_rectangle.hpp"
 #include "engine/segments/plane_regions.hpp"
 #include "engine/segments/segment_merge.hpp"
+#include "engine/segments/segment_record.hpp"
 #include "engine/segments/walkable.hpp"
 
 namespace sarmap::segments {
@@ -36,26 +37,6 @@ SegmentUpdate& SegmentUpdate::operator+=(const SegmentUpdate& o) {
   return *this;
 }
 
-// A segment with what it takes to grow it: running sums, its points and outline.
-struct SegmentMap::Record {
-  Segment view;
-  bool alive = true;
-  PlaneMoments moments;
-  // Sum of (sensor origin - point) over points seen from a known origin: the
-  // side a wall was seen from.
-  Eigen::Vector3d view_sum = Eigen::Vector3d::Zero();
-  // Point indices; entries that left (owner no longer this id) linger until compacted.
-  std::vector<std::uint32_t> members;
-  std::size_t stale = 0;
-  // The last outline's corner points plus the points joined since: the next
-  // outline is their convex hull, without revisiting every member.
-  std::vector<Eigen::Vector3f> outline;
-  Bounds box;
-  bool changed = false;
-  std::vector<std::uint32_t> left;  // points detached during this call
-  std::size_t lost_since_rebuild = 0;  // points that left for good since the last repair
-};
-
 // One call's scratch.
 struct SegmentMap::Work {
   SegmentUpdate update;
@@ -68,8 +49,6 @@ struct SegmentMap::Work {
 
 namespace {
 
-constexpr std::int64_t kAlive = -1;
-constexpr std::int64_t kDissolved = -2;
 // Cells of the index that finds the segments a point may join, metres.
 constexpr double kIndexCell = 1.0;
 // Planes within this of level (45 degrees) have their normal up; steeper

@@ -21,6 +21,7 @@
 #include "engine/core/bounds.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/state_stream.hpp"
 #include "engine/segments/labelled_voxels.hpp"
 #include "engine/segments/segment.hpp"
 #include "engine/segments/segment_settings.hpp"
@@ -91,6 +92,14 @@ class SegmentMap {
   std::size_t point_count() const { return voxels_.size(); }
   // Points waiting for a plane search, per class id.
   std::array<std::size_t, kClassCount> pending_counts() const;
+
+  // The whole state, for a checkpoint (engine/core/state_stream.hpp): a map
+  // loaded from it continues exactly as this one would.
+  void save_state(StateWriter& out) const;
+  // Replaces this map's state with a saved one (same settings). Throws
+  // sarmap::Error (Parse) naming the offset for a stream that does not hold
+  // one, leaving this map unchanged.
+  void load_state(StateReader& in);
 
  private:
   struct Record;
