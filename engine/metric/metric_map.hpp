@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "engine/core/classes.hpp"
+#include "engine/core/state_stream.hpp"
 #include "engine/metric/block_map.hpp"
 #include "engine/metric/label_fusion.hpp"
 #include "engine/metric/occupancy_model.hpp"
@@ -68,6 +69,13 @@ class MetricMap {
   MapCounts counts() const;
   // Bytes the map holds: blocks and the hash table's nodes and buckets.
   std::size_t memory_bytes() const;
+
+  // Every block, for a checkpoint (engine/core/state_stream.hpp).
+  void save_state(StateWriter& out) const;
+  // Replaces the blocks with saved ones. Throws sarmap::Error (Parse) naming
+  // the offset for a stream that holds no map of this resolution and fusion,
+  // or a block key out of the map's reach; the map is unchanged then.
+  void load_state(StateReader& in);
 
  private:
   MetricMapSettings settings_;

@@ -79,6 +79,16 @@ class Mapper {
   StageProfile& profile() { return profile_; }
   const StageProfile& profile() const { return profile_; }
 
+  // Every stage's state between scans (maps, classifier memory, segments,
+  // topological map, kept points, profile), for a checkpoint
+  // (engine/pipeline/checkpoint.hpp): a Mapper with the same config that
+  // loads it continues exactly as this one would, bit for bit.
+  void save_state(StateWriter& out) const;
+  // Throws sarmap::Error (Parse) naming the offset for a stream this config
+  // cannot continue (another classifier, voxel size, a damaged stream). The
+  // Mapper may be half-loaded after a throw: make a new one to go on.
+  void load_state(StateReader& in);
+
  private:
   void run_stages(Scan& scan);
   void keep_semantic_points(const PointBuffer& points);

@@ -71,6 +71,14 @@ class DgcnnPointClassifier final : public PointClassifier {
     counts.unlabelled = count_unknown(points);
     return counts;
   }
+  void save_state(StateWriter& out) const override {
+    PointClassifier::save_state(out);
+    ramp_decks_.save_state(out);
+  }
+  void load_state(StateReader& in) override {
+    PointClassifier::load_state(in);
+    ramp_decks_.load_state(in);
+  }
 
  private:
   DgcnnModel model_;  // declared before classifier_, which keeps a reference to it
@@ -81,6 +89,17 @@ class DgcnnPointClassifier final : public PointClassifier {
 };
 
 }  // namespace
+
+void PointClassifier::save_state(StateWriter& out) const {
+  out.tag("CLSF");
+  out.put_string(name());
+}
+
+void PointClassifier::load_state(StateReader& in) {
+  in.expect_tag("CLSF");
+  const std::string saved = in.get_string();
+  if (saved != name()) in.fail("the state is the " + saved + " classifier's, this run uses " + std::string(name()));
+}
 
 std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& config) {
   if (config.kind == "labels") return std::make_unique<LabelsClassifier>();

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/state_stream.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/rules/ramp_side_faces.hpp"
@@ -52,6 +53,13 @@ class PointClassifier {
   // classifier has them). Throws sarmap::Error naming what the input lacks.
   // Not const: a classifier may remember what earlier scans of the sequence showed.
   virtual ClassifyCounts classify(PointBuffer& points) = 0;
+  // What it remembers of earlier scans, for a checkpoint
+  // (engine/core/state_stream.hpp); its name, then nothing for a classifier
+  // that remembers nothing.
+  virtual void save_state(StateWriter& out) const;
+  // Throws sarmap::Error (Parse) naming the offset for another classifier's
+  // state or a damaged one.
+  virtual void load_state(StateReader& in);
 };
 
 // Throws sarmap::Error: InvalidArgument for an unknown kind or a dgcnn without

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "engine/core/classes.hpp"
+#include "engine/core/state_stream.hpp"
 #include "engine/metric/metric_map.hpp"
 #include "engine/segments/segment_map.hpp"
 #include "engine/topo/ground_profile.hpp"
@@ -72,6 +73,15 @@ class TopoMap {
   // metric map it was built from, for planning without re-running.
   static TopoMap restore(const TopoSettings& settings, std::vector<TopoNode> nodes, std::vector<TopoEdge> edges,
                          const std::vector<const segments::Segment*>& segments, const metric::MetricMap& map);
+
+  // Nodes, edges and the last update's counts, for a checkpoint
+  // (engine/core/state_stream.hpp); the grid and wall scene are derived.
+  void save_state(StateWriter& out) const;
+  // Replaces nodes and edges with saved ones and derives the rest from the
+  // maps they were saved with, so the next update() continues as the saved
+  // map's would. Throws sarmap::Error (Parse) naming the offset for a stream
+  // that holds no topological map; this map is unchanged then.
+  void load_state(StateReader& in, const segments::SegmentMap& segments, const metric::MetricMap& map);
 
   const TopoSettings& settings() const { return settings_; }
   // Every node ever given an id, indexed by it (retired ones have alive = false).

@@ -104,4 +104,32 @@ std::size_t label_ramp_side_faces(PointBuffer& points, const RampSideSettings& s
   return memory.label_side_faces(points);
 }
 
+void RampDeckMemory::save_state(StateWriter& out) const {
+  out.tag("DECK");
+  out.put(settings_.radius);  // the columns' size
+  // Sorted, so that one state always gives the same bytes.
+  std::vector<std::pair<std::uint64_t, HeightSpan>> columns(columns_.begin(), columns_.end());
+  std::sort(columns.begin(), columns.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  out.put<std::uint64_t>(columns.size());
+  for (const auto& [key, span] : columns) {
+    out.put(key);
+    out.put(span.low), out.put(span.high);
+  }
+}
+
+void RampDeckMemory::load_state(StateReader& in) {
+  in.expect_tag("DECK");
+  if (in.get<double>() != settings_.radius) in.fail("the saved ramp decks use another column size");
+  std::unordered_map<std::uint64_t, HeightSpan> columns;
+  const std::size_t n = in.get_count(16);
+  columns.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto key = in.get<std::uint64_t>();
+    HeightSpan span;
+    span.low = in.get<float>(), span.high = in.get<float>();
+    columns[key] = span;
+  }
+  columns_ = std::move(columns);
+}
+
 }  // namespace sarmap

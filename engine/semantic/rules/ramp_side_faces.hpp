@@ -25,6 +25,7 @@
 #include <unordered_map>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/state_stream.hpp"
 
 namespace sarmap {
 
@@ -66,6 +67,12 @@ class RampDeckMemory {
   void clear() { columns_.clear(); }
   // Grid columns holding deck.
   std::size_t columns() const { return columns_.size(); }
+
+  // The decks seen so far, for a checkpoint (engine/core/state_stream.hpp).
+  void save_state(StateWriter& out) const;
+  // Replaces the decks with saved ones. Throws sarmap::Error (Parse) naming
+  // the offset; unchanged then.
+  void load_state(StateReader& in);
 
  private:
   struct HeightSpan {
