@@ -48,16 +48,6 @@ long temporary_owner(const std::string& name) {
 
 bool process_is_gone(long pid) { return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH; }
 
-void remove_stale_temporaries(const fs::path& folder) {
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    const long pid = temporary_owner(entry.path().filename().string());
-    if (pid > 0 && entry.is_regular_file() && process_is_gone(pid)) {
-      std::error_code ignored;
-      fs::remove(entry.path(), ignored);
-    }
-  }
-}
-
 std::string read_lock_owner(int fd) {
   char text[32] = {};
   const ssize_t got = ::pread(fd, text, sizeof text - 1, 0);
@@ -88,6 +78,16 @@ Json read_manifest(const fs::path& folder) {
 }
 
 }  // namespace
+
+void remove_stale_temporaries(const fs::path& folder) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    const long pid = temporary_owner(entry.path().filename().string());
+    if (pid > 0 && entry.is_regular_file() && process_is_gone(pid)) {
+      std::error_code ignored;
+      fs::remove(entry.path(), ignored);
+    }
+  }
+}
 
 RunFolderWriter::RunFolderWriter(fs::path folder) : folder_(std::move(folder)) {
   if (folder_.empty()) throw Error(ErrorCode::InvalidArgument, "output folder: empty path");

@@ -44,6 +44,10 @@ class RunFolderWriter {
   int lock_fd_ = -1;
 };
 
+// Removes the temporaries AtomicFileWriter left in `folder` for processes
+// that are gone (killed while writing); others' are left alone.
+void remove_stale_temporaries(const std::filesystem::path& folder);
+
 // Checks a folder written by RunFolderWriter: manifest.json must exist and
 // every output it lists must have its recorded size and SHA-256. Files the
 // manifest does not list (a plan, a rendering) are not checked. Throws

@@ -56,6 +56,7 @@ class SarmapSequence final : public ScanSource {
   }
 
   void rewind() override { next_ = 0; }
+  void skip_to(std::size_t frame) override { next_ = frame; }
   const SensorInfo& sensor() const override { return manifest_.sensor; }
   std::string layout() const override { return "sarmap"; }
 

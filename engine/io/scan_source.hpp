@@ -25,6 +25,9 @@ class ScanSource {
   virtual bool next(Scan& scan) = 0;
   // Restarts from the first frame.
   virtual void rewind() = 0;
+  // Makes `frame` the next frame read (a resumed run): indexed sequences
+  // jump there, without reading the frames before it.
+  virtual void skip_to(std::size_t frame) = 0;
   virtual const SensorInfo& sensor() const = 0;
   // "sarmap", "tum", "7scenes" or "cloud" (a single PLY/PCD file as one scan).
   virtual std::string layout() const = 0;

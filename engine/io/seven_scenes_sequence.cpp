@@ -56,6 +56,7 @@ class SevenScenesSequence final : public ScanSource {
   }
 
   void rewind() override { next_ = 0; }
+  void skip_to(std::size_t frame) override { next_ = frame; }
   const SensorInfo& sensor() const override { return sensor_; }
   std::string layout() const override { return "7scenes"; }
 

@@ -23,6 +23,7 @@ class SingleCloudSource final : public ScanSource {
     return true;
   }
   void rewind() override { done_ = false; }
+  void skip_to(std::size_t frame) override { done_ = frame > 0; }
   const SensorInfo& sensor() const override { return sensor_; }
   std::string layout() const override { return "cloud"; }
 

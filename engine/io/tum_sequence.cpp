@@ -62,6 +62,7 @@ class TumSequence final : public ScanSource {
   }
 
   void rewind() override { next_ = 0; }
+  void skip_to(std::size_t frame) override { next_ = frame; }
   const SensorInfo& sensor() const override { return sensor_; }
   std::string layout() const override { return "tum"; }
   std::size_t skipped_frames() const override { return skipped_; }

@@ -22,6 +22,7 @@
 #include "engine/metric/map_file.hpp"
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
+#include "engine/pipeline/checkpoint.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -56,6 +57,48 @@ void require_finite_non_negative(double value, const char* flag) {
   if (!(value >= 0) || !std::isfinite(value)) {
     throw Error(ErrorCode::InvalidArgument, std::string("run: ") + flag + " must be a finite number >= 0");
   }
+}
+
+// manifest.json's "settings": what the run was asked to do.
+nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper& mapper) {
+  const pipeline::MapperConfig& config = mapper.config();
+  nlohmann::ordered_json settings;
+  settings["voxel"] = o.voxel;
+  settings["classifier"] = o.classifier;
+  if (o.classifier == "dgcnn") {
+    settings["model"] = fs::absolute(config.classifier.model).string();
+    settings["min_block_points"] = o.min_block_points;
+    settings["block_stride"] = o.block_stride;
+    settings["ramp_veto"] = o.ramp_veto;
+    settings["wall_bands"] = o.wall_bands;
+    settings["ramp_sides"] = o.ramp_sides;
+    settings["wall_feet"] = o.wall_feet;
+  }
+  settings.update(nlohmann::ordered_json{
+      {"threads", o.threads},
+      {"max_range", mapper.max_range()},
+      {"max_point_distance", o.max_point_distance},
+      {"keep_radius", o.keep_radius},
+      {"max_blocks", o.max_blocks},
+      {"strict", o.strict},
+      {"class_fusion",
+       mapper.metric_map().settings().fusion.fusion == metric::ClassFusion::Bayesian ? "bayesian" : "histogram"}});
+  return settings;
+}
+
+// What a checkpoint must match to be continued: the settings (the thread
+// count aside: the maps do not depend on it), the input's layout, frame count
+// and defining file, and the model's bytes.
+std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper, const ScanSource& source,
+                            const nlohmann::ordered_json& input) {
+  nlohmann::ordered_json what;
+  what["settings"] = run_settings(o, mapper);
+  what["settings"].erase("threads");
+  what["input_sha256"] = input["sha256"];
+  what["layout"] = source.layout();
+  what["frames"] = source.size();
+  if (o.classifier == "dgcnn") what["model_sha256"] = digest_file(mapper.config().classifier.model).sha256;
+  return sha256_hex(what.dump());
 }
 
 }  // namespace
@@ -102,19 +145,55 @@ RunSummary run_pipeline(const RunOptions& o) {
   // new manifest is written last.
   RunFolderWriter folder(o.out);
 
+  const nlohmann::ordered_json input = input_record(o.input);
+  const std::string fingerprint = run_fingerprint(o, mapper, *source, input);
+  const fs::path checkpoint_folder = o.out / ".checkpoint";
+  const fs::path checkpoint = checkpoint_folder / "state.bin";
+  std::size_t first_frame = 0;
+  std::size_t scans = 0;
+  double elapsed_before = 0;  // by the runs this one continues
+  if (fs::is_directory(checkpoint_folder)) remove_stale_temporaries(checkpoint_folder);
+  if (o.resume && fs::exists(checkpoint)) {
+    const pipeline::CheckpointHeader header = pipeline::load_checkpoint(checkpoint, fingerprint, mapper);
+    first_frame = static_cast<std::size_t>(header.next_frame);
+    scans = static_cast<std::size_t>(header.scans);
+    elapsed_before = header.elapsed_s;
+    source->skip_to(first_frame);
+    if (!o.quiet) {
+      std::printf("resuming from %s: frame %zu of %zu, %zu scans mapped\n", checkpoint.string().c_str(),
+                  first_frame, source->size(), scans);
+    }
+  } else {
+    if (o.resume && !o.quiet) {
+      std::printf("no checkpoint in %s: starting from the first frame\n", checkpoint_folder.string().c_str());
+    }
+    // Another run's checkpoint must not be continued by a later --resume.
+    fs::remove_all(checkpoint_folder);
+  }
+  if (o.checkpoint_every > 0) fs::create_directories(checkpoint_folder);
+  const auto elapsed = [&] {
+    return elapsed_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+
   ProgressLine progress("run", source->size(), !o.quiet);
   Scan scan;
-  std::size_t scans = 0;
   // One unreadable frame or refused scan costs that scan, not the run: both
   // leave the maps as they were (ScanSource::next, Mapper::integrate).
   SkippedScans skipped(mapper.profile(), o.strict);
-  for (std::size_t attempt = 0;; ++attempt) {
+  // After every frame, read or not: the checkpoint holds the state between two frames.
+  const auto frame_done = [&](std::size_t frame) {
+    progress.update(frame + 1);
+    if (o.checkpoint_every > 0 && (frame + 1) % o.checkpoint_every == 0) {
+      pipeline::save_checkpoint(checkpoint, {fingerprint, frame + 1, scans, elapsed()}, mapper);
+    }
+  };
+  for (std::size_t frame = first_frame;; ++frame) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       if (!source->next(scan)) break;
     } catch (const Error& e) {
-      skipped.add(attempt, "frame " + std::to_string(attempt), e, /*row_open=*/false);
-      progress.update(attempt + 1);
+      skipped.add(frame, "frame " + std::to_string(frame), e, /*row_open=*/false);
+      frame_done(frame);
       continue;
     }
     mapper.begin_scan();
@@ -123,9 +202,9 @@ RunSummary run_pipeline(const RunOptions& o) {
       mapper.integrate(scan);
       ++scans;
     } catch (const Error& e) {
-      skipped.add(attempt, scan.source, e, /*row_open=*/true);
+      skipped.add(frame, scan.source, e, /*row_open=*/true);
     }
-    progress.update(attempt + 1);
+    frame_done(frame);
   }
   progress.finish();
   if (scans == 0 && skipped.count() > 0) {
@@ -145,8 +224,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   topo::write_graph_graphml(folder.path_of("graph.graphml"), topo);
   topo::write_graph_ply(folder.path_of("graph.ply"), topo);
   topo::write_ros_map(topo.grid().grid, o.out, "grid");
-  mapper.profile().set_wall_seconds(
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+  mapper.profile().set_wall_seconds(elapsed());
   {
     AtomicFileWriter w(folder.path_of("profile.json"));
     w.write(mapper.profile().json() + "\n");
@@ -156,34 +234,18 @@ RunSummary run_pipeline(const RunOptions& o) {
   nlohmann::ordered_json manifest;
   manifest["version"] = kRunManifestVersion;
   manifest["sarmap_version"] = kVersion;
-  manifest["input"] = input_record(o.input);
+  manifest["input"] = input;
   manifest["layout"] = source->layout();
   manifest["scans"] = scans;
   manifest["scans_skipped"] = skipped.count();
-  manifest["settings"]["voxel"] = o.voxel;
-  manifest["settings"]["classifier"] = o.classifier;
-  if (o.classifier == "dgcnn") {
-    manifest["settings"]["model"] = fs::absolute(config.classifier.model).string();
-    manifest["settings"]["min_block_points"] = o.min_block_points;
-    manifest["settings"]["block_stride"] = o.block_stride;
-    manifest["settings"]["ramp_veto"] = o.ramp_veto;
-    manifest["settings"]["wall_bands"] = o.wall_bands;
-    manifest["settings"]["ramp_sides"] = o.ramp_sides;
-    manifest["settings"]["wall_feet"] = o.wall_feet;
-  }
-  manifest["settings"].update(nlohmann::ordered_json{{"threads", o.threads},
-                          {"max_range", mapper.max_range()},
-                          {"max_point_distance", o.max_point_distance},
-                          {"keep_radius", o.keep_radius},
-                          {"max_blocks", o.max_blocks},
-                          {"strict", o.strict},
-                          {"class_fusion", map.settings().fusion.fusion == metric::ClassFusion::Bayesian
-                                               ? "bayesian"
-                                               : "histogram"}});
+  manifest["settings"] = run_settings(o, mapper);
   // The commit record, written last (engine/io/run_folder.hpp).
   folder.commit(manifest, {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json",
                            "segments.ply", "graph.json", "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml",
                            "profile.json"});
+  // The outputs are whole: nothing is left to resume.
+  std::error_code ignored;
+  fs::remove_all(checkpoint_folder, ignored);
   RunSummary summary;
   summary.scans = scans;
   summary.counts = map.counts();
@@ -268,6 +330,14 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("--strict", o->strict,
                 "Stop at the first frame that cannot be read or scan the map refuses (by default such a scan "
                 "is skipped with a warning and listed in profile.json)");
+  cmd->add_option("--checkpoint-every", o->checkpoint_every,
+                  "Save the whole state to OUT/.checkpoint/ after every N frames, so that --resume can continue "
+                  "a run that was killed (0 = never)")
+      ->capture_default_str()
+      ->check(finite_non_negative());
+  cmd->add_flag("--resume", o->resume,
+                "Continue from OUT/.checkpoint/ (the same settings and input are required; without a checkpoint "
+                "the run starts from the first frame)");
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o] { run_pipeline(*o); });
 }

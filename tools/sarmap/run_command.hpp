@@ -33,6 +33,11 @@ struct RunOptions {
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
   std::size_t max_blocks = 0;   // keep at most this many map blocks, the farthest dropped first; 0 = no limit
   bool strict = false;  // a bad frame or refused scan ends the run instead of being skipped
+  // Save the whole state to OUT/.checkpoint/ after every this many frames (0 = never).
+  std::size_t checkpoint_every = 0;
+  // Continue from OUT/.checkpoint/ when it holds a checkpoint of this run's
+  // settings and input (from the first frame when there is none).
+  bool resume = false;
   bool quiet = false;
 };
 
