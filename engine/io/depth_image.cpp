@@ -8,11 +8,11 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <span>
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -95,12 +95,11 @@ struct PngReader {
 
 }  // namespace
 
-DepthImage read_depth_png(const std::filesystem::path& path) {
+DepthImage read_depth_png(const std::filesystem::path& path, const InputLimits& limits) {
   const std::string file = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, file + ": cannot open depth image: " + std::strerror(errno));
-  const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(in), {}};
-  if (in.bad()) throw Error(ErrorCode::Io, file + ": read failed");
+  const FileBytes contents = read_file_bytes(path, limits.max_file_bytes);
+  const std::span<const unsigned char> bytes(reinterpret_cast<const unsigned char*>(contents.data()),
+                                             contents.size());
   if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0) {
     throw Error(ErrorCode::Parse, file + ": not a PNG file (bad signature)");
   }
@@ -140,6 +139,11 @@ DepthImage read_depth_png(const std::filesystem::path& path) {
                                             std::to_string(h.height) + " image but holds only " +
                                             std::to_string(bytes.size()) +
                                             " bytes, too few for any compression of it");
+  }
+  if (static_cast<std::uint64_t>(h.width) * h.height > limits.max_points) {
+    throw Error(ErrorCode::OutOfRange, file + ": a " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                                           " image has more pixels than the limit of " +
+                                           std::to_string(limits.max_points) + " points per scan (sarmap's --max-scan-points)");
   }
   if (h.interlace != PNG_INTERLACE_NONE) png_set_interlace_handling(reader.png);
 

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "engine/io/input_limits.hpp"
+
 namespace sarmap {
 
 struct DepthImage {
@@ -23,7 +25,9 @@ struct DepthImage {
 
 // Reads a 16-bit single-channel (grayscale) PNG. An 8-bit or colour PNG, a
 // truncated or corrupt file get a sarmap::Error naming the file and the
-// problem; the image is never partially returned.
-DepthImage read_depth_png(const std::filesystem::path& path);
+// problem; the image is never partially returned. A file or an image larger
+// than `limits` (max_file_bytes, max_points pixels) is refused (OutOfRange)
+// before anything is allocated for it.
+DepthImage read_depth_png(const std::filesystem::path& path, const InputLimits& limits = {});
 
 }  // namespace sarmap

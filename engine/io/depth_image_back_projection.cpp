@@ -51,7 +51,7 @@ PointBuffer back_project(const DepthImage& image, const PinholeIntrinsics& k, co
 
 PointBuffer read_depth_png_points(const std::filesystem::path& path, const PinholeIntrinsics& intrinsics,
                                   const DepthDecoding& decoding) {
-  const DepthImage image = read_depth_png(path);
+  const DepthImage image = read_depth_png(path, decoding.limits);
   try {
     return back_project(image, intrinsics, decoding);
   } catch (const Error& e) {

@@ -12,6 +12,7 @@
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
 #include "engine/io/depth_image.hpp"
+#include "engine/io/input_limits.hpp"
 
 namespace sarmap {
 
@@ -22,6 +23,8 @@ struct DepthDecoding {
   bool max_value_is_invalid = false;
   // Depths beyond this (metres) are dropped; 0 keeps all.
   double max_depth = 0.0;
+  // The image file's size and pixel count (max_points).
+  InputLimits limits;
 };
 
 // Valid pixels only, in row-major pixel order. Throws InvalidData when the

@@ -17,6 +17,11 @@ namespace {
   throw Error(ErrorCode::Io, path.string() + ": cannot " + std::string(action) + ": " + std::strerror(error));
 }
 
+[[noreturn]] void too_large(const std::filesystem::path& path, std::uint64_t size, std::uint64_t max_bytes) {
+  throw Error(ErrorCode::OutOfRange, path.string() + ": " + std::to_string(size) + " bytes, more than the limit of " +
+                                         std::to_string(max_bytes) + " bytes for one input file (sarmap's --max-file-mb)");
+}
+
 // Closes the descriptor on every path out of read_file_bytes.
 struct Descriptor {
   int fd;
@@ -27,13 +32,14 @@ struct Descriptor {
 
 }  // namespace
 
-FileBytes read_file_bytes(const std::filesystem::path& path) {
+FileBytes read_file_bytes(const std::filesystem::path& path, std::uint64_t max_bytes) {
   const Descriptor file{::open(path.c_str(), O_RDONLY | O_CLOEXEC)};
   if (file.fd < 0) fail(path, "open", errno);
   struct stat status {};
   if (::fstat(file.fd, &status) != 0) fail(path, "stat", errno);
   if (S_ISDIR(status.st_mode)) fail(path, "read", EISDIR);
   const auto size = static_cast<std::size_t>(status.st_size);
+  if (static_cast<std::uint64_t>(status.st_size) > max_bytes) too_large(path, status.st_size, max_bytes);
   // Uninitialised on purpose: every byte is overwritten by read() below.
   auto data = std::make_unique_for_overwrite<char[]>(size == 0 ? 1 : size);
   std::size_t done = 0;
@@ -47,6 +53,14 @@ FileBytes read_file_bytes(const std::filesystem::path& path) {
     done += static_cast<std::size_t>(got);
   }
   return FileBytes(std::move(data), done);
+}
+
+void check_input_file_size(const std::filesystem::path& path, std::uint64_t max_bytes) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
+      static_cast<std::uint64_t>(status.st_size) > max_bytes) {
+    too_large(path, static_cast<std::uint64_t>(status.st_size), max_bytes);
+  }
 }
 
 std::string why_not_a_regular_file(const std::filesystem::path& path) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "engine/io/input_limits.hpp"
+
 namespace sarmap {
 
 class FileBytes {
@@ -24,8 +26,16 @@ class FileBytes {
   std::size_t size_ = 0;
 };
 
-// Throws sarmap::Error (Io) naming the path when it cannot be opened or read.
-FileBytes read_file_bytes(const std::filesystem::path& path);
+// Throws sarmap::Error naming the path: Io when it cannot be opened or read,
+// OutOfRange when it holds more than `max_bytes` (checked before allocating).
+FileBytes read_file_bytes(const std::filesystem::path& path,
+                          std::uint64_t max_bytes = InputLimits{}.max_file_bytes);
+
+// Throws sarmap::Error (OutOfRange) naming the path when the file holds
+// more than `max_bytes`, for readers that stream a file whole into memory;
+// a file that cannot be examined is left to the reader's own open to report.
+void check_input_file_size(const std::filesystem::path& path,
+                           std::uint64_t max_bytes = InputLimits{}.max_file_bytes);
 
 // Empty when `path` names a regular file; otherwise why not, to follow the
 // path in an error message: " does not exist", or ": " and the system's

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/io/sequence_text.hpp"
 
 namespace sarmap {
@@ -112,6 +113,7 @@ PinholeIntrinsics read_intrinsics_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw Error(ErrorCode::Io, path.string() + ": cannot open intrinsics file: " + std::strerror(errno));
+  check_input_file_size(path);
   const std::string text{std::istreambuf_iterator<char>(in), {}};
   std::size_t first = 0;
   while (first < text.size() && std::isspace(static_cast<unsigned char>(text[first]))) ++first;

@@ -4,12 +4,14 @@
 #include <sstream>
 
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 
 namespace sarmap::json_fields {
 
 Json read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open");
+  check_input_file_size(path);
   std::stringstream text;
   text << in.rdbuf();
   Json j = Json::parse(text.str(), nullptr, false);

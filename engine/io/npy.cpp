@@ -14,6 +14,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/element_count.hpp"
+#include "engine/io/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -124,6 +125,7 @@ NpyArray read_npy_f32(const std::filesystem::path& path) {
   const std::string src = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, src + ": cannot open for reading");
+  check_input_file_size(path);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 10 || std::memcmp(bytes.data(), kMagic, 6) != 0) {
     throw Error(ErrorCode::Parse, at_offset(src, 0, "not a .npy file (magic \\x93NUMPY missing)"));

@@ -12,7 +12,8 @@
 
 namespace sarmap {
 
-PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
+PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr,
+                     const InputLimits& limits = {});
 void write_pcd(const std::filesystem::path& path, const PointBuffer& points,
                const PointCloudWriteOptions& options = {});
 

@@ -63,7 +63,10 @@ FieldLayout bind_fields(const PcdHeader& header, const std::string& file) {
   return layout;
 }
 
-void prepare(PointBuffer& points, const FieldLayout& layout, std::size_t count) {
+// After the reader's size check, whose error says more of a lying header.
+void prepare(PointBuffer& points, const FieldLayout& layout, std::size_t count, const InputLimits& limits,
+             const std::string& file) {
+  check_declared_points(count, limits, file);
   points.resize(count);
   for (const FieldBinding& b : layout.bindings) enable_attribute(points, b);
 }
@@ -75,7 +78,7 @@ void prepare(PointBuffer& points, const FieldLayout& layout, std::size_t count) 
 }
 
 void read_binary(std::string_view bytes, const PcdHeader& header, FieldLayout& layout, PointBuffer& points,
-                 const std::string& file) {
+                 const std::string& file, const InputLimits& limits) {
   const std::size_t stride = header.point_size();
   const std::size_t offset = header.data_offset;
   const std::size_t remaining = bytes.size() - offset;
@@ -100,7 +103,7 @@ void read_binary(std::string_view bytes, const PcdHeader& header, FieldLayout& l
     }
     field_offset += header.fields[k].bytes();
   }
-  prepare(points, layout, count);
+  prepare(points, layout, count, limits, file);
   if (const auto failure = decode_binary_fields(bytes.data() + offset, count, layout.bindings, points, 0)) {
     const FieldBinding& b = layout.bindings[failure->binding];
     throw_bad_label(at_offset(file, offset + failure->point * stride + b.offset, ""), b, failure->point,
@@ -115,7 +118,7 @@ std::uint32_t load_u32(const char* p) {
 }
 
 void read_binary_compressed(std::string_view bytes, const PcdHeader& header, FieldLayout& layout,
-                            PointBuffer& points, const std::string& file) {
+                            PointBuffer& points, const std::string& file, const InputLimits& limits) {
   const std::size_t offset = header.data_offset;
   if (bytes.size() - offset < 8) {
     throw Error(ErrorCode::Parse, at_offset(file, offset, "file ends before the binary_compressed sizes "
@@ -159,7 +162,7 @@ void read_binary_compressed(std::string_view bytes, const PcdHeader& header, Fie
     }
     column += header.fields[k].bytes() * count;
   }
-  prepare(points, layout, count);
+  prepare(points, layout, count, limits, file);
   const char* base = reinterpret_cast<const char*>(unpacked.data());
   if (const auto failure = decode_binary_fields(base, count, layout.bindings, points, 0)) {
     const FieldBinding& b = layout.bindings[failure->binding];
@@ -170,7 +173,7 @@ void read_binary_compressed(std::string_view bytes, const PcdHeader& header, Fie
 }
 
 void read_ascii(std::string_view bytes, const PcdHeader& header, const FieldLayout& layout, PointBuffer& points,
-                const std::string& file) {
+                const std::string& file, const InputLimits& limits) {
   std::size_t values = 0;
   for (const PcdField& f : header.fields) values += f.count;
   const std::size_t remaining = bytes.size() - header.data_offset;
@@ -183,7 +186,7 @@ void read_ascii(std::string_view bytes, const PcdHeader& header, const FieldLayo
                                               " per point): file truncated or POINTS wrong"));
   }
   const auto count = static_cast<std::size_t>(header.points);
-  prepare(points, layout, count);
+  prepare(points, layout, count, limits, file);
   LineReader lines(bytes.substr(header.data_offset));
   auto line_number = [&] { return header.header_lines + lines.line_number(); };
   std::string_view line;
@@ -228,18 +231,18 @@ void read_ascii(std::string_view bytes, const PcdHeader& header, const FieldLayo
 
 }  // namespace
 
-PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info) {
+PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info, const InputLimits& limits) {
   const std::string file = path.string();
-  const FileBytes contents = read_file_bytes(path);
+  const FileBytes contents = read_file_bytes(path, limits.max_file_bytes);
   const std::string_view bytes = contents.view();
   const PcdHeader header = parse_pcd_header(bytes, file);
   FieldLayout layout = bind_fields(header, file);
 
   PointBuffer points;
   switch (header.encoding) {
-    case PcdEncoding::Ascii: read_ascii(bytes, header, layout, points, file); break;
-    case PcdEncoding::Binary: read_binary(bytes, header, layout, points, file); break;
-    case PcdEncoding::BinaryCompressed: read_binary_compressed(bytes, header, layout, points, file); break;
+    case PcdEncoding::Ascii: read_ascii(bytes, header, layout, points, file, limits); break;
+    case PcdEncoding::Binary: read_binary(bytes, header, layout, points, file, limits); break;
+    case PcdEncoding::BinaryCompressed: read_binary_compressed(bytes, header, layout, points, file, limits); break;
   }
   const std::size_t dropped = drop_non_finite(points);
   if (info != nullptr) {

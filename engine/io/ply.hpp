@@ -11,7 +11,8 @@
 
 namespace sarmap {
 
-PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
+PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr,
+                     const InputLimits& limits = {});
 void write_ply(const std::filesystem::path& path, const PointBuffer& points,
                const PointCloudWriteOptions& options = {});
 

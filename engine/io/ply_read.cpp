@@ -141,7 +141,7 @@ std::size_t skip_records(std::string_view bytes, std::size_t offset, const PlyEl
 }
 
 void read_binary_vertices(std::string_view bytes, std::size_t offset, const PlyElement& vertex, VertexLayout& layout,
-                          PointBuffer& points, const std::string& file) {
+                          PointBuffer& points, const std::string& file, const InputLimits& limits) {
   const std::size_t min_size = vertex.min_record_size();
   const std::size_t remaining = bytes.size() - offset;
   if (vertex.count > remaining / min_size) {
@@ -151,6 +151,8 @@ void read_binary_vertices(std::string_view bytes, std::size_t offset, const PlyE
                                             " bytes but only " + std::to_string(remaining) +
                                             " bytes of data follow the header (file truncated or count wrong)"));
   }
+  // After the size check, whose error says more of a lying header.
+  check_declared_points(vertex.count, limits, file);
   const auto count = static_cast<std::size_t>(vertex.count);
   points.resize(count);
   enable_bound_attributes(points, layout);
@@ -243,7 +245,8 @@ void skip_ascii_element(DataLines& lines, const PlyElement& element, const std::
 }
 
 void read_ascii_vertices(DataLines& lines, std::size_t remaining_bytes, const PlyElement& vertex,
-                         const VertexLayout& layout, PointBuffer& points, const std::string& file) {
+                         const VertexLayout& layout, PointBuffer& points, const std::string& file,
+                         const InputLimits& limits) {
   // Each value takes at least one character and one separator.
   const std::size_t min_bytes = 2 * vertex.properties.size();
   if (vertex.count > (remaining_bytes + 1) / min_bytes) {
@@ -253,6 +256,7 @@ void read_ascii_vertices(DataLines& lines, std::size_t remaining_bytes, const Pl
                                                " bytes of data follow (at least " + std::to_string(min_bytes) +
                                                " per vertex): file truncated or count wrong"));
   }
+  check_declared_points(vertex.count, limits, file);
   const auto count = static_cast<std::size_t>(vertex.count);
   points.resize(count);
   enable_bound_attributes(points, layout);
@@ -301,9 +305,9 @@ void read_ascii_vertices(DataLines& lines, std::size_t remaining_bytes, const Pl
 
 }  // namespace
 
-PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info) {
+PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info, const InputLimits& limits) {
   const std::string file = path.string();
-  const FileBytes contents = read_file_bytes(path);
+  const FileBytes contents = read_file_bytes(path, limits.max_file_bytes);
   const std::string_view bytes = contents.view();
   const PlyHeader header = parse_ply_header(bytes, file);
 
@@ -321,7 +325,7 @@ PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info
     DataLines lines(bytes.substr(header.data_offset), header.header_lines);
     for (auto e = header.elements.begin(); e != vertex_it; ++e) skip_ascii_element(lines, *e, file);
     // A rough bound for the count check: bytes after the header.
-    read_ascii_vertices(lines, bytes.size() - header.data_offset, vertex, layout, points, file);
+    read_ascii_vertices(lines, bytes.size() - header.data_offset, vertex, layout, points, file, limits);
     std::string_view extra;
     if (vertex_is_last && lines.next_nonblank(extra)) {
       throw Error(ErrorCode::Parse, at_line(file, lines.line_number(),
@@ -331,7 +335,7 @@ PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info
   } else {
     std::size_t offset = header.data_offset;
     for (auto e = header.elements.begin(); e != vertex_it; ++e) offset = skip_records(bytes, offset, *e, e->count, file);
-    read_binary_vertices(bytes, offset, vertex, layout, points, file);
+    read_binary_vertices(bytes, offset, vertex, layout, points, file, limits);
     if (vertex_is_last) {
       const std::size_t end = skip_records(bytes, offset, vertex, vertex.count, file);
       if (end != bytes.size()) {

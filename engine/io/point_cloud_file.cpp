@@ -20,10 +20,10 @@ PointCloudFormat point_cloud_format_of(const std::filesystem::path& path) {
                                           path.extension().string() + "'; expected .ply or .pcd");
 }
 
-PointBuffer read_point_cloud(const std::filesystem::path& path, PointCloudFileInfo* info) {
+PointBuffer read_point_cloud(const std::filesystem::path& path, PointCloudFileInfo* info, const InputLimits& limits) {
   switch (point_cloud_format_of(path)) {
-    case PointCloudFormat::Ply: return read_ply(path, info);
-    case PointCloudFormat::Pcd: return read_pcd(path, info);
+    case PointCloudFormat::Ply: return read_ply(path, info, limits);
+    case PointCloudFormat::Pcd: return read_pcd(path, info, limits);
   }
   return {};
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/io/input_limits.hpp"
 
 namespace sarmap {
 
@@ -32,7 +33,10 @@ struct PointCloudWriteOptions {
 
 // Throws sarmap::Error for an unknown extension or a malformed file.
 PointCloudFormat point_cloud_format_of(const std::filesystem::path& path);
-PointBuffer read_point_cloud(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
+// Throws sarmap::Error naming the file: Io, Parse, or OutOfRange past `limits`
+// (a file too large, or a header declaring more points than max_points).
+PointBuffer read_point_cloud(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr,
+                             const InputLimits& limits = {});
 void write_point_cloud(const std::filesystem::path& path, const PointBuffer& points,
                        const PointCloudWriteOptions& options = {});
 

@@ -12,6 +12,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/element_count.hpp"
+#include "engine/io/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -94,6 +95,7 @@ std::size_t SafetensorsTensor::element_count() const {
 SafetensorsFile SafetensorsFile::read(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open for reading");
+  check_input_file_size(path);
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw Error(ErrorCode::Io, path.string() + ": read failed");
   return parse(std::move(bytes), path.string());

@@ -24,8 +24,8 @@ void check_labels(std::span<const std::uint8_t> labels, const std::string& file,
 
 class SarmapSequence final : public ScanSource {
  public:
-  SarmapSequence(std::filesystem::path folder, SequenceManifest manifest)
-      : folder_(std::move(folder)), manifest_(std::move(manifest)) {}
+  SarmapSequence(std::filesystem::path folder, SequenceManifest manifest, const InputLimits& limits)
+      : folder_(std::move(folder)), manifest_(std::move(manifest)), limits_(limits) {}
 
   std::size_t size() const override { return manifest_.frames.size(); }
 
@@ -35,7 +35,7 @@ class SarmapSequence final : public ScanSource {
     const SequenceManifestFrame& frame = manifest_.frames[index];
     const std::filesystem::path file = folder_ / frame.file;
     PointCloudFileInfo info;
-    PointBuffer points = read_point_cloud(file, &info);
+    PointBuffer points = read_point_cloud(file, &info, limits_);
     if (points.has_labels()) check_labels(points.labels(), file.string(), "label");
     if (points.has_gt_labels()) check_labels(points.gt_labels(), file.string(), "gt_label");
     std::size_t dropped = info.dropped_non_finite;
@@ -63,12 +63,13 @@ class SarmapSequence final : public ScanSource {
  private:
   std::filesystem::path folder_;
   SequenceManifest manifest_;
+  InputLimits limits_;
   std::size_t next_ = 0;
 };
 
 }  // namespace
 
-std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& folder) {
+std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& folder, const InputLimits& limits) {
   const std::filesystem::path json = folder / "sequence.json";
   SequenceManifest manifest = read_sequence_manifest(json);
   for (std::size_t i = 0; i < manifest.frames.size(); ++i) {
@@ -77,7 +78,7 @@ std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& fo
       throw Error(ErrorCode::Io, json.string() + ": frames[" + std::to_string(i) + "].file: " + file.string() + why);
     }
   }
-  return std::make_unique<SarmapSequence>(folder, std::move(manifest));
+  return std::make_unique<SarmapSequence>(folder, std::move(manifest), limits);
 }
 
 }  // namespace sarmap

@@ -13,6 +13,7 @@ namespace sarmap {
 // Reads and checks sequence.json and that every frame file exists; the
 // points are read frame by frame in next(). Sensor-frame points are moved
 // into the world by their pose; a label outside the class table is an error.
-std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& folder);
+std::unique_ptr<ScanSource> open_sarmap_sequence(const std::filesystem::path& folder,
+                                                 const InputLimits& limits = {});
 
 }  // namespace sarmap

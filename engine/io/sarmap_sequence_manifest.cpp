@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/io/intrinsics.hpp"
 
 namespace sarmap {
@@ -224,6 +225,7 @@ SequenceManifest parse_sequence_manifest(std::string_view json_text, const std::
 SequenceManifest read_sequence_manifest(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open: " + std::strerror(errno));
+  check_input_file_size(path);
   const std::string text{std::istreambuf_iterator<char>(in), {}};
   if (in.bad()) throw Error(ErrorCode::Io, path.string() + ": read failed");
   return parse_sequence_manifest(text, path.string());

@@ -30,14 +30,14 @@ std::unique_ptr<ScanSource> open_scan_sequence(const std::filesystem::path& path
   }
   if (std::filesystem::is_regular_file(status)) {
     if (path.filename() == "sequence.json") {
-      return open_sarmap_sequence(path.has_parent_path() ? path.parent_path() : ".");
+      return open_sarmap_sequence(path.has_parent_path() ? path.parent_path() : ".", options.limits);
     }
-    return open_single_cloud(path);
+    return open_single_cloud(path, options.limits);
   }
   if (!std::filesystem::is_directory(status)) {
     throw Error(ErrorCode::Io, path.string() + ": neither a file nor a folder");
   }
-  if (std::filesystem::exists(path / "sequence.json")) return open_sarmap_sequence(path);
+  if (std::filesystem::exists(path / "sequence.json")) return open_sarmap_sequence(path, options.limits);
   if (std::filesystem::exists(path / "depth.txt")) return open_tum_sequence(path, options);
   if (has_seven_scenes_frame(path)) return open_seven_scenes_sequence(path, options);
   throw Error(ErrorCode::InvalidArgument,

@@ -11,6 +11,7 @@
 
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
+#include "engine/io/input_limits.hpp"
 
 namespace sarmap {
 
@@ -45,6 +46,8 @@ struct ScanSequenceOptions {
   // TUM RGB-D: a depth frame takes the ground-truth pose nearest in time and
   // is skipped when that pose is farther than this (seconds).
   double max_time_difference = 0.02;
+  // Size of each frame's file and points per frame, checked before reading it.
+  InputLimits limits;
 };
 
 // Opens a folder in one of the known layouts, or a single PLY/PCD file as a

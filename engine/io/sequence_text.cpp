@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "engine/core/error.hpp"
+#include "engine/io/file_bytes.hpp"
 
 namespace sarmap {
 
@@ -18,6 +19,7 @@ std::vector<TextRow> read_text_rows(const std::filesystem::path& path) {
   if (!in) {
     throw Error(ErrorCode::Io, path.string() + ": cannot open: " + std::strerror(errno));
   }
+  check_input_file_size(path);
   const std::string text{std::istreambuf_iterator<char>(in), {}};
   if (in.bad()) throw Error(ErrorCode::Io, path.string() + ": read failed");
   std::vector<TextRow> rows;

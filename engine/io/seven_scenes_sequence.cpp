@@ -122,6 +122,7 @@ std::unique_ptr<ScanSource> open_seven_scenes_sequence(const std::filesystem::pa
   decoding.units_per_metre = kSevenScenesDepthUnitsPerMetre;
   decoding.max_value_is_invalid = true;
   decoding.max_depth = options.max_depth;
+  decoding.limits = options.limits;
   return std::make_unique<SevenScenesSequence>(std::move(frames), std::move(sensor), decoding);
 }
 

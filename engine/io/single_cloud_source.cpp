@@ -8,14 +8,14 @@ namespace {
 
 class SingleCloudSource final : public ScanSource {
  public:
-  explicit SingleCloudSource(std::filesystem::path path) : path_(std::move(path)) {}
+  SingleCloudSource(std::filesystem::path path, const InputLimits& limits) : path_(std::move(path)), limits_(limits) {}
 
   std::size_t size() const override { return 1; }
   bool next(Scan& scan) override {
     if (done_) return false;
     done_ = true;  // even when reading fails
     PointCloudFileInfo info;
-    PointBuffer points = read_point_cloud(path_, &info);
+    PointBuffer points = read_point_cloud(path_, &info, limits_);
     scan = Scan{};
     scan.points = std::move(points);
     scan.source = path_.string();
@@ -29,18 +29,19 @@ class SingleCloudSource final : public ScanSource {
 
  private:
   std::filesystem::path path_;
+  InputLimits limits_;
   SensorInfo sensor_;
   bool done_ = false;
 };
 
 }  // namespace
 
-std::unique_ptr<ScanSource> open_single_cloud(const std::filesystem::path& path) {
+std::unique_ptr<ScanSource> open_single_cloud(const std::filesystem::path& path, const InputLimits& limits) {
   point_cloud_format_of(path);  // throws for an extension other than .ply / .pcd
   if (!std::filesystem::is_regular_file(path)) {
     throw Error(ErrorCode::Io, path.string() + ": no such point-cloud file");
   }
-  return std::make_unique<SingleCloudSource>(path);
+  return std::make_unique<SingleCloudSource>(path, limits);
 }
 
 }  // namespace sarmap

@@ -10,6 +10,6 @@
 namespace sarmap {
 
 // Throws sarmap::Error when the file does not exist or is not .ply / .pcd.
-std::unique_ptr<ScanSource> open_single_cloud(const std::filesystem::path& path);
+std::unique_ptr<ScanSource> open_single_cloud(const std::filesystem::path& path, const InputLimits& limits = {});
 
 }  // namespace sarmap

@@ -153,6 +153,7 @@ std::unique_ptr<ScanSource> open_tum_sequence(const std::filesystem::path& folde
   DepthDecoding decoding;
   decoding.units_per_metre = kTumDepthUnitsPerMetre;
   decoding.max_depth = options.max_depth;
+  decoding.limits = options.limits;
   return std::make_unique<TumSequence>(std::move(frames), skipped, std::move(sensor), decoding);
 }
 

@@ -9,6 +9,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/geometry/float_limits.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/sim/mesh_loader.hpp"
 
 namespace sarmap::sim {
@@ -380,6 +381,7 @@ Arena parse_arena(std::string_view json_text, std::string_view source_view,
 Arena load_arena(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ErrorCode::Io, path.string() + ": cannot open arena file");
+  check_input_file_size(path);
   std::ostringstream text;
   text << in.rdbuf();
   return parse_arena(text.str(), path.string(), path.parent_path());

@@ -95,7 +95,7 @@ void run_convert(const ConvertArgs& a) {
       throw Error(ErrorCode::InvalidArgument,
                   "convert: " + a.out + ": a cloud converts to a .ply or .pcd file");
     }
-    PointBuffer points = read_point_cloud(in);
+    PointBuffer points = read_point_cloud(in, nullptr, a.sequence.options().limits);
     if (thinning) points = thinning->thin(points);
     write_point_cloud(out, points, write_options);
     if (!a.quiet) std::printf("%s: %zu points\n", a.out.c_str(), points.size());

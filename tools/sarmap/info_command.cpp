@@ -79,7 +79,7 @@ std::string_view format_name(PointCloudFormat f) { return f == PointCloudFormat:
 
 void cloud_info(const InfoArgs& a) {
   PointCloudFileInfo info;
-  const PointBuffer points = read_point_cloud(a.path, &info);
+  const PointBuffer points = read_point_cloud(a.path, &info, a.sequence.options().limits);
   const Bounds bounds = points.bounds();
   ClassCounts classes{};
   count_classes(points, classes);

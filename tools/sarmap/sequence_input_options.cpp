@@ -1,5 +1,7 @@
 #include "tools/sarmap/sequence_input_options.hpp"
 
+#include <cstdint>
+
 #include "tools/sarmap/number_checks.hpp"
 
 namespace sarmap::cli {
@@ -8,6 +10,10 @@ ScanSequenceOptions SequenceInputArgs::options() const {
   ScanSequenceOptions options;
   if (!intrinsics.empty()) options.intrinsics_file = intrinsics;
   options.max_time_difference = max_time_difference;
+  // Past 2^64 bytes the cast would be undefined: any such limit means none.
+  const double bytes = max_file_mb * 1024 * 1024;
+  options.limits.max_file_bytes = bytes >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(bytes);
+  options.limits.max_points = max_scan_points;
   return options;
 }
 
@@ -18,6 +24,16 @@ void add_sequence_input_options(CLI::App* cmd, SequenceInputArgs& args) {
                   "TUM: largest gap in seconds between a depth frame and its ground-truth pose")
       ->capture_default_str()
       ->check(finite_non_negative());
+  cmd->add_option("--max-file-mb", args.max_file_mb,
+                  "Refuse an input file (a frame, a cloud, a depth image) larger than this many MiB, before "
+                  "reading it")
+      ->capture_default_str()
+      ->check(finite_positive());
+  cmd->add_option("--max-scan-points", args.max_scan_points,
+                  "Refuse a frame or cloud of more points (a header's count, a depth image's pixels), before "
+                  "allocating for it")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
 }
 
 }  // namespace sarmap::cli
