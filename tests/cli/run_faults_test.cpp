@@ -3,6 +3,7 @@
 // skipped with a warning and listed in profile.json (--strict makes it fatal);
 // a run in which no scan can be used is an error.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -117,6 +118,37 @@ TEST_F(RunFaults, ARunWithNoUsableScanIsAnError) {
   EXPECT_NE(r.err.find("none of the 1 scans could be used; the first: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("a.ply"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out() / "manifest.json"));
+}
+
+// A frame over the input limits is one bad frame: skipped, named, counted.
+TEST_F(RunFaults, AFrameOverTheInputLimitsIsSkippedNamingTheLimit) {
+  const std::string big = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+                          "property float z\nproperty uchar label\nend_header\n0 0 1 1\n1 0 1 2\n0 1 1 2\n"
+                          "1 1 1 2\n2 1 1 2\n";
+  const fs::path input = sequence(big);
+  auto r = run(input, " --max-scan-points 4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("b.ply: the header declares 5 points, more than the limit of 4"), std::string::npos) << r.err;
+  EXPECT_EQ(profile().at("skipped_scans").get<int>(), 1);
+  r = run(input, " --max-file-mb 0.0001");  // 104 bytes: every frame is larger
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("more than the limit of 104 bytes"), std::string::npos) << r.err;
+  for (const char* bad : {" --max-file-mb 0", " --max-file-mb nan", " --max-scan-points 0", " --max-scan-points -1"}) {
+    r = run(input, bad);
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.err.find(std::string(bad).substr(1, std::string(bad).find(' ', 1) - 1)), std::string::npos)
+        << bad << ": " << r.err;
+  }
+}
+
+// By default the map keeps as many blocks as half the machine's memory holds.
+TEST_F(RunFaults, TheMapBlockBudgetDefaultsToHalfTheMemory) {
+  ASSERT_EQ(run(sequence(kGoodFrame)).exit_code, 0);
+  const auto manifest = nlohmann::json::parse(test::read_all(out() / "manifest.json"));
+  const auto budget = manifest.at("settings").at("max_blocks").get<std::size_t>();
+  const std::size_t memory = static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGE_SIZE);
+  EXPECT_GT(budget, 0u);
+  EXPECT_NEAR(static_cast<double>(budget) * (512 * 14 + 64), memory / 2.0, memory * 0.01);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // builds the maps scan by scan through the pipeline's Mapper and writes every output (map.sarmap, map.bt,
 // voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*, manifest.json, profile.json; docs/formats.md),
 // each atomically.
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -102,6 +104,14 @@ std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper,
 }
 
 }  // namespace
+
+std::size_t default_max_blocks() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_bytes <= 0) return 0;
+  // A block's voxels plus its hash-table node and pointer.
+  constexpr std::size_t kBytesPerBlock = sizeof(metric::MetricMap::Blocks::Block) + 64;
+  return static_cast<std::size_t>(pages) / 2 * static_cast<std::size_t>(page_bytes) / kBytesPerBlock;
+}
 
 RunSummary run_pipeline(const RunOptions& o) {
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "run: --out DIR is required");
@@ -251,6 +261,11 @@ RunSummary run_pipeline(const RunOptions& o) {
   summary.counts = map.counts();
   summary.stats = mapper.metric_stats();
   summary.wall_s = mapper.profile().wall_seconds();
+  if (mapper.blocks_dropped() > 0) {
+    std::fprintf(stderr, "sarmap: warning: %zu map blocks were forgotten to keep the map within %s\n",
+                 mapper.blocks_dropped(),
+                 o.max_blocks > 0 ? ("--max-blocks " + std::to_string(o.max_blocks)).c_str() : "--keep-radius");
+  }
   if (!o.quiet) {
     if (skipped.count() > 0) std::printf("%zu scans skipped (profile.json lists them)\n", skipped.count());
     std::printf("%zu scans, %zu points (%zu rejected) -> %zu occupied, %zu free voxels at %.3f m in %.2f s\n",
@@ -317,8 +332,8 @@ void add_run_command(CLI::App& app) {
       ->capture_default_str()
       ->check(finite_non_negative());
   cmd->add_option("--max-blocks", o->max_blocks,
-                  "Keep at most this many map blocks (8^3 voxels each), forgetting the farthest from the "
-                  "sensor first; 0 = no limit")
+                  "Keep at most this many map blocks (8^3 voxels each, about 7 KiB), forgetting the farthest from "
+                  "the sensor first; 0 = no limit (the default: as many as half this machine's memory holds)")
       ->capture_default_str()
       ->check(finite_non_negative());
   cmd->add_option("--max-point-distance", o->max_point_distance,

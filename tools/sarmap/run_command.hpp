@@ -11,6 +11,10 @@
 
 namespace sarmap::cli {
 
+// As many map blocks as half this machine's memory holds: past it the map
+// forgets its farthest blocks rather than the process being killed for memory.
+std::size_t default_max_blocks();
+
 struct RunOptions {
   std::filesystem::path input;
   SequenceInputArgs sequence;
@@ -31,7 +35,8 @@ struct RunOptions {
   double max_range = 0.0;
   double max_point_distance = 1000.0;  // drop points farther from their scan's origin (m); 0 = keep all
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
-  std::size_t max_blocks = 0;   // keep at most this many map blocks, the farthest dropped first; 0 = no limit
+  // Keep at most this many map blocks, the farthest dropped first; 0 = no limit.
+  std::size_t max_blocks = default_max_blocks();
   bool strict = false;  // a bad frame or refused scan ends the run instead of being skipped
   // Save the whole state to OUT/.checkpoint/ after every this many frames (0 = never).
   std::size_t checkpoint_every = 0;
