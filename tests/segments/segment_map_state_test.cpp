@@ -18,28 +18,13 @@ namespace {
 using testing::add_patch;
 using testing::Patch;
 using testing::small_arena;
+using testing::stripes;
 
 // One call: a scan from its origin, or a reclassification without one.
 struct Step {
   PointBuffer points;
   std::optional<Eigen::Vector3d> origin;
 };
-
-std::vector<PointBuffer> stripes(const std::vector<Patch>& patches, int scans, double step, double noise,
-                                 std::uint32_t seed) {
-  PointBuffer all;
-  for (const Patch& p : patches) add_patch(all, p, step, noise, seed++);
-  std::vector<PointBuffer> out(scans);
-  for (int s = 0; s < scans; ++s) {
-    const double lo = 4.0 * s / scans - 0.3, hi = 4.0 * (s + 1) / scans + 0.3;
-    std::vector<std::uint32_t> keep;
-    for (std::uint32_t i = 0; i < all.size(); ++i) {
-      if (all.x()[i] >= lo && all.x()[i] <= hi) keep.push_back(i);
-    }
-    out[s] = all.select(keep);
-  }
-  return out;
-}
 
 // Everything the state holds comes into play: noisy stripes leave points
 // pending, a wall seen end first merges when its middle comes, a second pass

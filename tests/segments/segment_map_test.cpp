@@ -16,23 +16,7 @@ namespace {
 using testing::add_patch;
 using testing::Patch;
 using testing::small_arena;
-
-// The small arena seen as a sensor would: in `scans` overlapping stripes along x.
-std::vector<PointBuffer> stripes(const std::vector<Patch>& patches, int scans, double noise = 0) {
-  PointBuffer all;
-  std::uint32_t seed = 1;
-  for (const Patch& p : patches) add_patch(all, p, 0.02, noise, seed++);
-  std::vector<PointBuffer> out(scans);
-  for (int s = 0; s < scans; ++s) {
-    const double lo = 4.0 * s / scans - 0.3, hi = 4.0 * (s + 1) / scans + 0.3;
-    std::vector<std::uint32_t> keep;
-    for (std::uint32_t i = 0; i < all.size(); ++i) {
-      if (all.x()[i] >= lo && all.x()[i] <= hi) keep.push_back(i);
-    }
-    out[s] = all.select(keep);
-  }
-  return out;
-}
+using testing::stripes;
 
 SegmentMap build(const std::vector<PointBuffer>& scans, const SegmentSettings& settings = {}) {
   SegmentMap map(settings);
@@ -95,7 +79,7 @@ TEST(SegmentMap, SmallArenaGivesOneSegmentPerSurface) {
 }
 
 TEST(SegmentMap, NoisySurfacesKeepTheirPlanes) {
-  const SegmentMap map = build(stripes(small_arena(), 6, 0.005));
+  const SegmentMap map = build(stripes(small_arena(), 6, 0.02, 0.005));
   const Segment* floor = near_point(map, ClassId::Terrain, {2, 1.5, 0});
   ASSERT_NE(floor, nullptr);
   EXPECT_EQ(map.of_class(ClassId::Terrain).size(), 1u);
@@ -162,7 +146,7 @@ TEST(SegmentMap, ReclassifiedRegionIsReDerivedAsAFreshBuildWouldBe) {
 }
 
 TEST(SegmentMap, SameSegmentsOnOneAndTwoThreads) {
-  const auto scans = stripes(small_arena(), 5, 0.005);
+  const auto scans = stripes(small_arena(), 5, 0.02, 0.005);
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     return build(scans);

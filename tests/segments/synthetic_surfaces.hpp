@@ -52,4 +52,23 @@ inline std::vector<Patch> small_arena() {
   };
 }
 
+// The patches seen as a sensor moving along x would see them: in `scans`
+// overlapping stripes over x in [0, 4], sampled every `step` metres with the
+// given noise (seeds from `seed` on, one per patch).
+inline std::vector<PointBuffer> stripes(const std::vector<Patch>& patches, int scans, double step = 0.02,
+                                        double noise = 0, std::uint32_t seed = 1) {
+  PointBuffer all;
+  for (const Patch& p : patches) add_patch(all, p, step, noise, seed++);
+  std::vector<PointBuffer> out(scans);
+  for (int s = 0; s < scans; ++s) {
+    const double lo = 4.0 * s / scans - 0.3, hi = 4.0 * (s + 1) / scans + 0.3;
+    std::vector<std::uint32_t> keep;
+    for (std::uint32_t i = 0; i < all.size(); ++i) {
+      if (all.x()[i] >= lo && all.x()[i] <= hi) keep.push_back(i);
+    }
+    out[s] = all.select(keep);
+  }
+  return out;
+}
+
 }  // namespace sarmap::segments::testing
