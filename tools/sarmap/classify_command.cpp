@@ -28,6 +28,7 @@
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/off_switch.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
@@ -150,16 +151,16 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)")
       ->check(finite_positive());
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)")->check(finite_non_negative());
-  cmd->add_flag("!--no-ramp-veto", options->ramp_veto,
+  add_off_switch(cmd, "--no-ramp-veto", options->ramp_veto,
                 "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
-  cmd->add_flag("!--no-wall-bands", options->wall_bands,
+  add_off_switch(cmd, "--no-wall-bands", options->wall_bands,
                 "Keep other labels on long surfaces (by default, other labels in a patch of other and wall "
                 "0.8 m or longer become wall)");
-  cmd->add_flag("!--no-ramp-sides", options->ramp_sides,
+  add_off_switch(cmd, "--no-ramp-sides", options->ramp_sides,
                 "Keep wall and other labels on ramp side faces (by default, wall or other points with ramp deck "
                 "3-100 cm above them within 15 cm become inclined ramp; one frame sees fewer decks than "
                 "`sarmap run`'s sequence)");
-  cmd->add_flag("!--no-wall-feet", options->wall_feet,
+  add_off_switch(cmd, "--no-wall-feet", options->wall_feet,
                 "Keep wall labels at the floor's height (by default, wall points at most 5 mm above the "
                 "mean height of the terrain around them become terrain)");
   cmd->add_option("--raw-block", options->raw_block,

@@ -31,6 +31,7 @@
 #include "engine/topo/ros_map_files.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/off_switch.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
 #include "tools/sarmap/shipped_data.hpp"
@@ -307,17 +308,17 @@ void add_run_command(CLI::App& app) {
                   "the default; the block size = no overlap)")
       ->capture_default_str()
       ->check(finite_non_negative());
-  cmd->add_flag("!--no-ramp-veto", o->ramp_veto,
+  add_off_switch(cmd, "--no-ramp-veto", o->ramp_veto,
                "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
                "inclined ramp on a surface steeper than 60 degrees become wall or other)");
-  cmd->add_flag("!--no-wall-bands", o->wall_bands,
+  add_off_switch(cmd, "--no-wall-bands", o->wall_bands,
                "Keep the network's other labels on long surfaces (by default, points labelled other in a "
                "patch of other and wall labels that runs on for 0.8 m or more, longer than a box, become wall)");
-  cmd->add_flag("!--no-ramp-sides", o->ramp_sides,
+  add_off_switch(cmd, "--no-ramp-sides", o->ramp_sides,
                "Keep the network's wall and other labels on ramp side faces (by default, points labelled "
                "wall or other with ramp deck seen 3-100 cm above them within 15 cm, in this scan or an "
                "earlier one, become inclined ramp)");
-  cmd->add_flag("!--no-wall-feet", o->wall_feet,
+  add_off_switch(cmd, "--no-wall-feet", o->wall_feet,
                "Keep the network's wall labels at the floor's height (by default, points labelled wall at "
                "most 5 mm above the mean height of the terrain around them become terrain)");
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
