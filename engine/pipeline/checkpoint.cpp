@@ -65,12 +65,6 @@ void save_checkpoint(const std::filesystem::path& file, const CheckpointHeader& 
   writer.commit();
 }
 
-CheckpointHeader read_checkpoint_header(const std::filesystem::path& file) {
-  const std::string bytes = read_verified(file);
-  StateReader in(bytes, file.string());
-  return read_header(in, file);
-}
-
 CheckpointHeader load_checkpoint(const std::filesystem::path& file, const std::string& fingerprint, Mapper& mapper) {
   const std::string bytes = read_verified(file);
   StateReader in(bytes, file.string());

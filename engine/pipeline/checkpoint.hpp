@@ -30,15 +30,11 @@ struct CheckpointHeader {
 // Written atomically: a crash leaves the previous checkpoint or none.
 void save_checkpoint(const std::filesystem::path& file, const CheckpointHeader& header, const Mapper& mapper);
 
-// Reads only the header (and checks the whole file's hash). Throws
-// sarmap::Error naming the file: Io when it cannot be read, Parse when it is
-// damaged or from another checkpoint version.
-CheckpointHeader read_checkpoint_header(const std::filesystem::path& file);
-
 // Loads the state into `mapper` (made with the run's config) after checking
 // that the file's fingerprint is `fingerprint`; returns the header. Throws
-// sarmap::Error: InvalidArgument when the fingerprints differ (another
-// config or input), the errors above otherwise.
+// sarmap::Error naming the file: InvalidArgument when the fingerprints differ
+// (another config or input), Io when it cannot be read, Parse when it is
+// damaged or from another checkpoint version.
 CheckpointHeader load_checkpoint(const std::filesystem::path& file, const std::string& fingerprint, Mapper& mapper);
 
 }  // namespace sarmap::pipeline
