@@ -71,7 +71,9 @@ constexpr BadFile kPcdFiles[] = {
     {"pcd_label_count.pcd", ErrorCode::Parse, ":6: ", "field 'label' has COUNT 2; expected 1"},
     {"pcd_bad_data_kind.pcd", ErrorCode::Parse, ":11: ",
      "DATA 'binary_lzma'; expected ascii, binary or binary_compressed"},
-    {"pcd_binary_trailing_bytes.pcd", ErrorCode::Parse, " (byte offset 188)", "12 bytes follow the 2 points"},
+    // Zero bytes after the points are padding (PCL writes them); these are a third point.
+    {"pcd_binary_trailing_bytes.pcd", ErrorCode::Parse, " (byte offset 188)",
+     "12 bytes follow the 2 points the header declares and the one at byte offset 191 is not zero"},
     {"pcd_compressed_bad_reference.pcd", ErrorCode::Parse, " (byte offset 183)",
      "LZF data (byte 0 of the compressed block): back-reference 200 bytes back reaches before the start"},
     {"pcd_compressed_size_too_large.pcd", ErrorCode::Parse, " (byte offset 183)",

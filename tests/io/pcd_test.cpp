@@ -156,6 +156,52 @@ TEST(Pcd, SkipsMultiValuedAndUnknownAsciiFields) {
   EXPECT_THAT(std::vector<int>(cloud.labels().begin(), cloud.labels().end()), ElementsAre(1, 2, 5));
 }
 
+// Files PCL 1.13 wrote itself (tests/data/clouds/make_pcl_clouds.sh): its
+// binary writer leaves zero bytes after the points, which are padding.
+TEST(Pcd, ReadsPclToolsBinaryWithZeroPaddingAsItsAsciiSource) {
+  const PointBuffer ascii = read_pcd(data_path("clouds/pcl_tools_ascii.pcd"));
+  ASSERT_EQ(ascii.size(), 300u);
+  EXPECT_EQ(ascii.x()[21], -0.875f);
+  EXPECT_EQ(ascii.y()[21], 0.25f);
+  EXPECT_EQ(+ascii.red()[1], 7);
+  EXPECT_EQ(+ascii.blue()[2], 58);
+  EXPECT_EQ(+ascii.labels()[11], 5);
+
+  const std::string bytes = slurp(data_path("clouds/pcl_tools_binary.pcd"));
+  const std::string data_line = "DATA binary\n";
+  const std::size_t data_end = bytes.find(data_line) + data_line.size() + 300 * 20;
+  ASSERT_EQ(bytes.size() - data_end, 3906u) << "the sample no longer holds PCL's padding";
+  EXPECT_EQ(bytes.find_first_not_of('\0', data_end), std::string::npos);
+
+  PointCloudFileInfo info;
+  expect_same_cloud(ascii, read_pcd(data_path("clouds/pcl_tools_binary.pcd"), &info));
+  EXPECT_EQ(info.encoding, "binary");
+  expect_same_cloud(ascii, read_pcd(data_path("clouds/pcl_tools_binary_compressed.pcd"), &info));
+  EXPECT_EQ(info.encoding, "binary_compressed");
+}
+
+// The rule itself, on a file of our own: zeros after the points are read as
+// padding, and one non-zero byte among them is refused with its offset.
+TEST(Pcd, AcceptsZeroBytesAfterBinaryPointsAndRefusesAnyOther) {
+  test::ScratchDir dir("pcd");
+  const PointBuffer cloud = make_cloud(50, 27);
+  write_pcd(dir / "c.pcd", cloud, {.binary = true});
+  std::string bytes = slurp(dir / "c.pcd");
+  const std::size_t data_end = bytes.size();
+  bytes.append(4096, '\0');
+  test::spit(dir / "padded.pcd", bytes);
+  expect_same_cloud(cloud, read_pcd(dir / "padded.pcd"));
+
+  bytes[data_end + 4000] = 1;
+  test::spit(dir / "dirty.pcd", bytes);
+  const std::string path = (dir / "dirty.pcd").string();
+  const Error e = test::error_from([&] { read_pcd(path); });
+  EXPECT_EQ(e.code(), ErrorCode::Parse);
+  EXPECT_THAT(e.what(), HasSubstr(path + " (byte offset " + std::to_string(data_end) + "): 4096 bytes follow the 50 "
+                                  "points the header declares and the one at byte offset " +
+                                  std::to_string(data_end + 4000) + " is not zero"));
+}
+
 TEST(Pcd, AsciiAndBinaryOfTheSameCloudAgree) {
   test::ScratchDir dir("pcd");
   const PointBuffer cloud = make_cloud(5000, 26);

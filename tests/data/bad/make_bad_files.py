@@ -89,6 +89,7 @@ def pcd_files():
     write("pcd_label_count.pcd",
           pcd_header("x y z label", "4 4 4 4", "F F F U", "1 1 1 2", 1, 1, "ascii") + "1 2 3 4 5\n")
     write("pcd_bad_data_kind.pcd", pcd_xyz(1, "binary_lzma") + "1 2 3\n")
+    # 2 points declared, 3 present: the trailing bytes are a point, not zero padding.
     write("pcd_binary_trailing_bytes.pcd", pcd_xyz(2, "binary").encode() + xyz_records(3))
     # binary_compressed: 2 points of 12 bytes, so 24 bytes uncompressed.
     raw = struct.pack("<2f", 1, 4) + struct.pack("<2f", 2, 5) + struct.pack("<2f", 3, 6)
