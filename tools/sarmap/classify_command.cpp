@@ -51,6 +51,7 @@ struct ClassifyOptions {
   std::string logits;
   int threads = 0;
   std::string simd;
+  bool quiet = false;
 };
 
 std::unique_ptr<tbb::global_control> thread_limit(const ClassifyOptions& o) {
@@ -130,6 +131,7 @@ void run_cloud(const ClassifyOptions& o) {
   feet.enabled = o.wall_feet;
   const std::size_t foot_points = label_wall_feet(points, feet);
   write_point_cloud(o.out, points);
+  if (o.quiet) return;
   std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown; "
               "%zu inclined-ramp labels on steep surfaces changed; %zu other labels on wall bands changed; "
               "%zu wall or other labels under a ramp deck changed; %zu wall labels at floor height changed\n",
@@ -170,6 +172,7 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--logits", options->logits, "With --raw-block: where to write the (N, classes) float32 logits (.npy)");
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--simd", options->simd, "Force an instruction set: sse4_2, avx2 or avx512");
+  cmd->add_flag("--quiet", options->quiet, "No summary line (the labels go to --out or --logits)");
   cmd->callback([options] {
     if (options->raw_block.empty() == options->input.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classify: give either INPUT (a cloud or sequence) or --raw-block BLOCK.npy");

@@ -30,6 +30,10 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("--arena", args->arena, "Arena description the run was simulated from")->required();
   cmd->add_option("--run", args->run, "Folder written by `sarmap run`")->required();
   cmd->add_flag("--json", args->json, "Print the figures as JSON");
+  // Taken like every subcommand's --quiet; eval draws no progress, and the
+  // figures are its result, so nothing is left to silence.
+  const std::string quiet_help = "No progress output (eval prints none; its figures still print)";
+  cmd->add_flag("--quiet", quiet_help);
   cmd->callback([args] { run_eval(*args); });
 }
 
