@@ -6,9 +6,12 @@
 #include <pty.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+
+#include "tests/cli/cli_runner.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -120,6 +123,36 @@ TEST(Progress, RunDrawsOnATerminalUnlessQuiet) {
   const std::string quiet = cli_on_a_terminal(run + "/quiet' --quiet");
   EXPECT_EQ(quiet.find("frames"), std::string::npos) << quiet;
   EXPECT_EQ(quiet, "");
+  std::filesystem::remove_all(tmp);
+}
+
+// `sarmap simulate` the same way: its progress line draws on a terminal only.
+TEST(Progress, SimulateDrawsOnATerminalUnlessQuiet) {
+  const std::string tmp = ::testing::TempDir() + "sarmap_progress_sim_pty_" + std::to_string(::getpid());
+  const std::string simulate =
+      std::string("simulate '") + SARMAP_SOURCE_DIR + "/tests/cli/data/tiny_arena.json' --out '" + tmp;
+  const std::string loud = cli_on_a_terminal(simulate + "/loud'");
+  EXPECT_THAT(loud, ::testing::HasSubstr("\rsimulate: 3/3 frames"));
+  EXPECT_THAT(loud, ::testing::HasSubstr("tiny-3x2: 3 frames"));
+  const std::string quiet = cli_on_a_terminal(simulate + "/quiet' --quiet");
+  EXPECT_EQ(quiet, "");
+  std::filesystem::remove_all(tmp);
+}
+
+// Off a terminal (a log, a pipe) simulate prints its one summary line and no
+// line per frame.
+TEST(Progress, SimulatePrintsNoLinePerFrameOffATerminal) {
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("sarmap_progress_sim_log_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(tmp);
+  const auto r = test::run_cli(
+      "simulate " + test::quoted(std::string(SARMAP_SOURCE_DIR) + "/tests/cli/data/tiny_arena.json") + " --out " +
+          test::quoted((tmp / "sequence").string()),
+      tmp);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_THAT(r.out, ::testing::StartsWith("tiny-3x2: 3 frames, "));
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
   std::filesystem::remove_all(tmp);
 }
 

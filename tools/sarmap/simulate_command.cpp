@@ -12,6 +12,7 @@
 #include "engine/sim/simulator.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/progress.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -54,10 +55,13 @@ void run_simulate(const SimulateArgs& a) {
   const sim::Simulator simulator(arena, options);
   const std::size_t frames = a.frames == 0 ? simulator.frame_count() : std::min(a.frames, simulator.frame_count());
   std::size_t total = 0;
+  // Only a terminal gets a line per frame, redrawn in place; a log gets the summary.
+  ProgressLine progress("simulate", frames, !a.quiet);
   sim::write_simulated_sequence(simulator, a.out, frames, [&](std::size_t frame, std::size_t points) {
     total += points;
-    if (!a.quiet) std::printf("frame %zu/%zu: %zu points\n", frame + 1, frames, points);
+    progress.update(frame + 1);
   });
+  progress.finish();
   if (!a.quiet) std::printf("%s: %zu frames, %zu points written to %s\n", arena.name.c_str(), frames, total, a.out.c_str());
 }
 
@@ -70,7 +74,7 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "Output sequence folder");
   cmd->add_option("--seed", args->seed, "Seed of the sensor noise (default 0)")->check(finite_non_negative());
   cmd->add_option("--frames", args->frames, "Simulate only the first N frames")->check(CLI::PositiveNumber);
-  cmd->add_flag("--quiet", args->quiet, "No progress output");
+  cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
   cmd->add_option("--random", args->random, "Generate a random NIST-like arena from this seed")
       ->check(finite_non_negative());
   cmd->add_option("--write-arena", args->write_arena, "Save the generated arena's JSON (with --random)");
