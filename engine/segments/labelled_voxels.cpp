@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace sarmap::segments {
 namespace {
@@ -81,6 +83,35 @@ void LabelledVoxels::set_label(std::uint32_t i, ClassId l) {
   v.fill(0);
   v[static_cast<std::size_t>(l)] = std::max<std::uint16_t>(most, 1);
   label[i] = static_cast<std::uint8_t>(l);
+}
+
+std::vector<std::uint32_t> LabelledVoxels::keep_only(const std::vector<std::uint8_t>& keep) {
+  std::vector<std::uint32_t> moved(size(), kDropped);
+  const std::vector<std::uint64_t> keys = index_.keys();
+  // The index is rebuilt as a checkpoint rebuilds it: the kept keys in order.
+  FlatKeyIndex index(kInitialVoxels);
+  std::uint32_t next = 0;
+  for (std::uint32_t i = 0; i < size(); ++i) {
+    if (!keep[i]) continue;
+    moved[i] = next;
+    index.find_or_insert(keys[i]);
+    x[next] = x[i], y[next] = y[i], z[next] = z[i];
+    range[next] = range[i];
+    scan[next] = scan[i];
+    label[next] = label[i];
+    owner[next] = owner[i];
+    pending[next] = pending[i];
+    rounds[next] = rounds[i];
+    votes_[next] = votes_[i];
+    ++next;
+  }
+  for (auto* column : {&x, &y, &z, &range}) column->resize(next);
+  scan.resize(next);
+  for (auto* column : {&label, &pending, &rounds}) column->resize(next);
+  owner.resize(next);
+  votes_.resize(next);
+  index_ = std::move(index);
+  return moved;
 }
 
 void LabelledVoxels::save_state(StateWriter& out) const {

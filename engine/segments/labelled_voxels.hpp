@@ -47,6 +47,12 @@ class LabelledVoxels {
 
   Eigen::Vector3d position(std::uint32_t i) const { return {x[i], y[i], z[i]}; }
 
+  // Keeps only the points whose flag in `keep` (one per point) is set, in
+  // their order, and returns each old index's new one (kDropped for a point
+  // let go). Every column and the key index shrink with them.
+  static constexpr std::uint32_t kDropped = 0xffffffffu;
+  std::vector<std::uint32_t> keep_only(const std::vector<std::uint8_t>& keep);
+
   // Every column, the votes and the voxel keys in insertion order, for a
   // checkpoint: keys recomputed from the stored positions could fall into a
   // neighbouring voxel.

@@ -34,6 +34,7 @@ SegmentUpdate& SegmentUpdate::operator+=(const SegmentUpdate& o) {
   merged += o.merged;
   split += o.split;
   removed += o.removed;
+  points_forgotten += o.points_forgotten;
   return *this;
 }
 
@@ -218,6 +219,76 @@ SegmentUpdate SegmentMap::reclassify(const PointBuffer& points) {
     queue(work, *stored);
   }
   return finish(work);
+}
+
+SegmentUpdate SegmentMap::forget(const std::function<bool(const Eigen::Vector3d&)>& forgotten) {
+  const std::size_t n = voxels_.size();
+  std::vector<std::uint8_t> keep(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      keep[i] = !forgotten(voxels_.position(static_cast<std::uint32_t>(i)));
+    }
+  });
+  Work work;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (keep[i]) continue;
+    detach(i);
+    voxels_.pending[i] = 0;
+    ++work.update.points_forgotten;
+  }
+  if (work.update.points_forgotten == 0) return work.update;
+  // Each segment that lost points is re-derived from the points it keeps.
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    Record& r = records_[id];
+    if (!r.alive || r.left.empty()) continue;
+    r.left.clear();
+    repair(id, work);
+  }
+  compact_points(keep);
+  for (std::uint32_t id = 0; id < records_.size(); ++id) {
+    if (records_[id].alive && records_[id].changed) refresh(id);
+  }
+  merge_changed(work);
+  for (Record& r : records_) r.changed = false;
+  return work.update;
+}
+
+void SegmentMap::compact_points(const std::vector<std::uint8_t>& keep) {
+  const std::size_t before = voxels_.size();
+  const std::vector<std::uint32_t> moved = voxels_.keep_only(keep);
+  const auto renumber = [&](std::vector<std::uint32_t>& points) {
+    std::erase_if(points, [&](std::uint32_t p) { return moved[p] == LabelledVoxels::kDropped; });
+    for (std::uint32_t& p : points) p = moved[p];
+  };
+  for (Record& r : records_) {
+    renumber(r.members);
+    renumber(r.left);
+  }
+  for (std::vector<std::uint32_t>& list : pending_) renumber(list);
+  // Per-point scratch moves with its point (sized lazily, so maybe short).
+  const auto compact_column = [&](auto& column) {
+    for (std::size_t i = 0; i < std::min(before, column.size()); ++i) {
+      if (moved[i] != LabelledVoxels::kDropped) column[moved[i]] = column[i];
+    }
+    column.resize(std::min(column.size(), voxels_.size()));
+  };
+  compact_column(queued_in_);
+  compact_column(marks_);
+  // Only the scans some kept point was seen from keep their origin.
+  std::vector<std::uint32_t> scan_moved(origins_.size(), LabelledVoxels::kNoScan);
+  for (std::uint32_t s : voxels_.scan) {
+    if (s != LabelledVoxels::kNoScan) scan_moved[s] = 0;
+  }
+  std::uint32_t next = 0;
+  for (std::size_t s = 0; s < origins_.size(); ++s) {
+    if (scan_moved[s] == LabelledVoxels::kNoScan) continue;
+    scan_moved[s] = next;
+    origins_[next++] = origins_[s];
+  }
+  origins_.resize(next);
+  for (std::uint32_t& s : voxels_.scan) {
+    if (s != LabelledVoxels::kNoScan) s = scan_moved[s];
+  }
 }
 
 void SegmentMap::queue(Work& work, std::uint32_t point) {

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -41,6 +42,7 @@ struct SegmentUpdate {
   std::size_t merged = 0;           // segments merged into another
   std::size_t split = 0;            // parts split off a segment that lost points
   std::size_t removed = 0;          // segments dissolved for lack of points
+  std::size_t points_forgotten = 0;  // stored points let go by forget()
 
   SegmentUpdate& operator+=(const SegmentUpdate& other);
 };
@@ -66,6 +68,13 @@ class SegmentMap {
   // added), and every segment that loses points is refitted, split or
   // dissolved. Same errors as integrate.
   SegmentUpdate reclassify(const PointBuffer& points);
+  // Lets go of the stored points for which `forgotten(position)` is true (a
+  // bounded map's dropped blocks), so the map's memory follows the region
+  // kept: they leave their segments, which are refitted, split or dissolved
+  // as after a reclassification, and the point storage shrinks. Segment ids
+  // and merge history stay. `forgotten` is called concurrently, once per
+  // stored point.
+  SegmentUpdate forget(const std::function<bool(const Eigen::Vector3d&)>& forgotten);
 
   // Live segments, in id order.
   std::vector<const Segment*> segments() const;
@@ -126,6 +135,10 @@ class SegmentMap {
   void merge_changed(Work& work);
   void refresh(std::uint32_t id);
   void compact_members(Record& record, std::uint32_t id);
+  // Keeps the stored points flagged in `keep` and renumbers every list that
+  // names points (members, pending lists, per-point scratch) and the scans'
+  // origins to match.
+  void compact_points(const std::vector<std::uint8_t>& keep);
   // A fresh stamp for marks_: points marked with it were seen in this pass.
   std::uint32_t next_mark();
   Eigen::Vector3d origin_of(std::uint32_t point) const;
