@@ -121,9 +121,11 @@ void Mapper::run_stages(Scan& scan) {
     if (config_.bounds.limited()) {
       const std::size_t dropped = metric::apply_bounds(map_, scan.origin, config_.bounds);
       blocks_dropped_ += dropped;
+      blocks_dropped_unforgotten_ += dropped;
       profile_.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
     }
   }
+  if (forgetting_due()) forget_dropped_regions();
   {
     const auto timer = profile_.time("segment");
     const segments::SegmentUpdate u = segments_.integrate(scan.points, scan.origin);
@@ -155,6 +157,38 @@ void Mapper::run_stages(Scan& scan) {
   keep_semantic_points(scan.points);
 }
 
+bool Mapper::forgetting_due() const {
+  return blocks_dropped_unforgotten_ > 0 && blocks_dropped_unforgotten_ * 8 >= map_.blocks().block_count();
+}
+
+bool Mapper::in_kept_block(double x, double y, double z) const {
+  return metric::within_map_limits(x, y, z) &&
+         map_.blocks().voxel(metric::key_of(x, y, z, 1.0 / map_.resolution())) != nullptr;
+}
+
+void Mapper::forget_dropped_regions() {
+  blocks_dropped_unforgotten_ = 0;
+  {
+    const auto timer = profile_.time("segment");
+    const segments::SegmentUpdate u =
+        segments_.forget([&](const Eigen::Vector3d& p) { return !in_kept_block(p.x(), p.y(), p.z()); });
+    add_counts(profile_, "segment", {{"points_forgotten", u.points_forgotten}, {"removed", u.removed}});
+  }
+  std::vector<std::uint32_t> keep;
+  keep.reserve(semantic_points_.size());
+  for (std::uint32_t i = 0; i < semantic_points_.size(); ++i) {
+    if (in_kept_block(semantic_points_.x()[i], semantic_points_.y()[i], semantic_points_.z()[i])) keep.push_back(i);
+  }
+  const std::size_t forgotten = semantic_points_.size() - keep.size();
+  profile_.add_count("metric", "semantic_points_forgotten", static_cast<double>(forgotten));
+  if (forgotten == 0) return;
+  semantic_points_ = semantic_points_.select(keep);
+  std::vector<std::uint64_t> keys(keep.size());
+  for (std::size_t k = 0; k < keep.size(); ++k) keys[k] = semantic_point_keys_[keep[k]];
+  semantic_point_keys_ = std::move(keys);
+  semantic_keys_ = std::unordered_set<std::uint64_t>(semantic_point_keys_.begin(), semantic_point_keys_.end());
+}
+
 void Mapper::keep_semantic_points(const PointBuffer& points) {
   if (config_.semantic_points_voxel <= 0) return;
   const double inv = 1.0 / config_.semantic_points_voxel;
@@ -163,7 +197,10 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
     const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
     if (!metric::within_map_limits(x, y, z)) continue;
     const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
-    if (semantic_keys_.insert(key).second) keep.push_back(i);
+    if (semantic_keys_.insert(key).second) {
+      keep.push_back(i);
+      semantic_point_keys_.push_back(key);
+    }
   }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <unordered_set>
+#include <vector>
 
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/scan.hpp"
@@ -35,7 +36,12 @@ struct MapperConfig {
   ClassifierConfig classifier;
   metric::MetricMapSettings map;  // its resolution is replaced by `voxel`
   metric::IntegratorSettings integrator;  // its max_range is replaced as above
-  // Keep the map bounded around the sensor (radius, block budget); unlimited by default.
+  // Keep the map bounded around the sensor (radius, block budget); unlimited
+  // by default. What the metric map drops, the segment stage's points and
+  // the kept semantic points let go of too, once the blocks dropped since
+  // they last did reach an eighth of the map's blocks (so the work is spread
+  // thin): a bounded run's memory stays flat, and its segments, graph and
+  // points describe the region around the sensor, not the whole mission.
   metric::MapBounds bounds;
   // Keep one classified point per voxel of this size for semantic_points.ply (0 keeps none).
   double semantic_points_voxel = 0.05;
@@ -79,6 +85,14 @@ class Mapper {
   StageProfile& profile() { return profile_; }
   const StageProfile& profile() const { return profile_; }
 
+  // Lets the segment map and the kept semantic points go of every point whose
+  // metric block the map no longer holds (or never held), counted in the
+  // profile (segment.points_forgotten, metric.semantic_points_forgotten).
+  // integrate() calls it itself as the bounds drop blocks; a caller may call
+  // it before reading the maps so that they cover the same region exactly
+  // (the topological map follows at the next scan).
+  void forget_dropped_regions();
+
   // Every stage's state between scans (maps, classifier memory, segments,
   // topological map, kept points, profile), for a checkpoint
   // (engine/pipeline/checkpoint.hpp): a Mapper with the same config that
@@ -92,12 +106,17 @@ class Mapper {
  private:
   void run_stages(Scan& scan);
   void keep_semantic_points(const PointBuffer& points);
+  // Whether the blocks dropped since the last forget_dropped_regions() call
+  // are enough to make it worth one.
+  bool forgetting_due() const;
+  bool in_kept_block(double x, double y, double z) const;
 
   MapperConfig config_;
   metric::MetricMap map_;
   metric::RayIntegrator integrator_;
   metric::IntegrationStats stats_;
   std::size_t blocks_dropped_ = 0;
+  std::size_t blocks_dropped_unforgotten_ = 0;  // since the last forget_dropped_regions()
   std::unique_ptr<PointClassifier> classifier_;
   segments::SegmentMap segments_;
   topo::TopoMap topo_;
@@ -105,6 +124,7 @@ class Mapper {
   PointBuffer semantic_points_;
   bool row_open_ = false;
   std::unordered_set<std::uint64_t> semantic_keys_;  // voxels already holding a kept point
+  std::vector<std::uint64_t> semantic_point_keys_;   // per kept point, its voxel
 };
 
 }  // namespace sarmap::pipeline

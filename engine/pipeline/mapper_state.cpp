@@ -2,7 +2,8 @@
 // kept points' voxel keys are saved rather than recomputed: a key comes from
 // the point as it arrived, and the stored float copy may round into another
 // voxel.
-#include <algorithm>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/pipeline/mapper.hpp"
@@ -13,14 +14,13 @@ void Mapper::save_state(StateWriter& out) const {
   out.tag("MAPR");
   out.put(stats_);
   out.put<std::uint64_t>(blocks_dropped_);
+  out.put<std::uint64_t>(blocks_dropped_unforgotten_);
   classifier_->save_state(out);
   map_.save_state(out);
   segments_.save_state(out);
   topo_.save_state(out);
   semantic_points_.save_state(out);
-  std::vector<std::uint64_t> keys(semantic_keys_.begin(), semantic_keys_.end());
-  std::sort(keys.begin(), keys.end());
-  out.put_vector(keys);
+  out.put_vector(semantic_point_keys_);
   profile_.save_state(out);
 }
 
@@ -28,13 +28,20 @@ void Mapper::load_state(StateReader& in) {
   in.expect_tag("MAPR");
   stats_ = in.get<metric::IntegrationStats>();
   blocks_dropped_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  blocks_dropped_unforgotten_ = static_cast<std::size_t>(in.get<std::uint64_t>());
   classifier_->load_state(in);
   map_.load_state(in);
   segments_.load_state(in);
   topo_.load_state(in, segments_, map_);
   semantic_points_.load_state(in);
-  const std::vector<std::uint64_t> keys = in.get_vector<std::uint64_t>();
+  std::vector<std::uint64_t> keys = in.get_vector<std::uint64_t>();
+  if (keys.size() != semantic_points_.size()) {
+    in.fail("the kept points hold " + std::to_string(semantic_points_.size()) + " points but " +
+            std::to_string(keys.size()) + " voxel keys");
+  }
   semantic_keys_ = std::unordered_set<std::uint64_t>(keys.begin(), keys.end());
+  if (semantic_keys_.size() != keys.size()) in.fail("two kept points share a voxel key");
+  semantic_point_keys_ = std::move(keys);
   profile_.load_state(in);
   row_open_ = false;
 }

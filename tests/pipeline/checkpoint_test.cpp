@@ -29,8 +29,9 @@ const sim::Arena& default_arena() {
   return arena;
 }
 
-MapperConfig config_for(const std::string& classifier) {
+MapperConfig config_for(const std::string& classifier, std::size_t max_blocks = 0) {
   MapperConfig config;
+  config.bounds.max_blocks = max_blocks;
   config.classifier.kind = classifier;
   if (classifier == "dgcnn") {
     config.classifier.model = fs::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
@@ -61,12 +62,13 @@ MapBytes bytes_of(const Mapper& mapper) {
   return {metric.bytes(), segments.bytes(), topo.bytes(), points.bytes()};
 }
 
+// Compared as booleans: a failure would print megabytes of state otherwise.
 void expect_same_maps(const Mapper& a, const Mapper& b) {
   const MapBytes x = bytes_of(a), y = bytes_of(b);
-  EXPECT_EQ(x.metric, y.metric) << "metric map";
-  EXPECT_EQ(x.segments, y.segments) << "segment map";
-  EXPECT_EQ(x.topo, y.topo) << "topological map";
-  EXPECT_EQ(x.points, y.points) << "semantic points";
+  EXPECT_TRUE(x.metric == y.metric) << "metric map";
+  EXPECT_TRUE(x.segments == y.segments) << "segment map";
+  EXPECT_TRUE(x.topo == y.topo) << "topological map";
+  EXPECT_TRUE(x.points == y.points) << "semantic points";
   EXPECT_EQ(a.profile().scan_count(), b.profile().scan_count());
   EXPECT_EQ(a.profile().counter("metric", "rays"), b.profile().counter("metric", "rays"));
   EXPECT_EQ(a.profile().counter("segment", "created"), b.profile().counter("segment", "created"));
@@ -74,9 +76,11 @@ void expect_same_maps(const Mapper& a, const Mapper& b) {
 
 // Runs frames [0, end) in one Mapper, and in two: the second loads the
 // first's checkpoint taken after `cut`.
-void expect_resume_matches(const std::string& classifier, std::size_t cut, std::size_t end, std::size_t stride) {
+// Returns the points the segment stage forgot in the whole run.
+double expect_resume_matches(const std::string& classifier, std::size_t cut, std::size_t end, std::size_t stride,
+                             std::size_t max_blocks = 0) {
   test::ScratchFolder scratch;
-  const MapperConfig config = config_for(classifier);
+  const MapperConfig config = config_for(classifier, max_blocks);
   const SensorInfo sensor = sim::sensor_info(default_arena().sensor);
   Mapper whole(config, sensor);
   integrate_frames(whole, 0, end, stride);
@@ -93,6 +97,7 @@ void expect_resume_matches(const std::string& classifier, std::size_t cut, std::
   EXPECT_EQ(header.elapsed_s, 1.5);
   integrate_frames(resumed, cut, end, stride);
   expect_same_maps(whole, resumed);
+  return whole.profile().counter("segment", "points_forgotten");
 }
 
 TEST(Checkpoint, LabelsRunResumesBitForBit) {
@@ -107,6 +112,15 @@ TEST(Checkpoint, GeometricRunResumesBitForBit) { expect_resume_matches("geometri
 TEST(Checkpoint, DgcnnRunResumesBitForBitWithItsRampDecks) {
   RELEASE_ONLY();  // the network under the sanitizers takes minutes; DgcnnClassifier's own tests cover it there
   expect_resume_matches("dgcnn", 60, 100, 20);
+}
+
+// A bounded map forgets segment and kept points in passes, every eighth of
+// the map's blocks dropped: how far the next pass is is part of the state.
+TEST(Checkpoint, BoundedRunResumesBitForBitAcrossForgetting) {
+  for (std::size_t cut : {21u, 42u}) {
+    SCOPED_TRACE(cut);
+    EXPECT_GT(expect_resume_matches("labels", cut, 60, 3, 400), 0.0);
+  }
 }
 
 TEST(Checkpoint, ResumingAfterTheLastScanKeepsTheMaps) { expect_resume_matches("labels", 40, 40, 8); }

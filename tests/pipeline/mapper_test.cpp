@@ -164,5 +164,49 @@ TEST(Mapper, KeepsTheMapWithinItsBoundsBudgetAndRadius) {
   }
 }
 
+// With bounds, the segment stage's points and the kept semantic points follow
+// the metric map: after forget_dropped_regions() none lies in a block the
+// map no longer holds, and both hold fewer points than without bounds.
+TEST(Mapper, BoundedMapForgetsSegmentAndKeptPointsWithItsBlocks) {
+  testing::SyntheticRoom room;
+  MapperConfig unbounded;
+  unbounded.classifier.kind = "labels";
+  MapperConfig bounded = unbounded;
+  bounded.bounds.max_blocks = 200;
+  Mapper full(unbounded), small(bounded);
+  for (int f = 0; f < 6; ++f) {
+    auto r = room.frame(f, 6, 128, 96);
+    Scan a, b;
+    a.points = r.points;
+    b.points = r.points;
+    a.origin = b.origin = r.origin;
+    full.integrate(a);
+    small.integrate(b);
+  }
+  // Passes ran during the scans (each once an eighth of the blocks had gone).
+  EXPECT_GT(small.profile().counter("segment", "points_forgotten"), 0.0);
+  EXPECT_GT(small.profile().counter("metric", "semantic_points_forgotten"), 0.0);
+  small.forget_dropped_regions();
+  const metric::MetricMap& map = small.metric_map();
+  const auto held = [&](double x, double y, double z) {
+    return map.blocks().voxel(metric::key_of(x, y, z, map.inv_resolution())) != nullptr;
+  };
+  const PointBuffer& kept = small.semantic_points();
+  ASSERT_GT(kept.size(), 0u);
+  for (std::size_t i = 0; i < kept.size(); ++i) EXPECT_TRUE(held(kept.x()[i], kept.y()[i], kept.z()[i])) << i;
+  for (const segments::Segment* s : small.segment_map().segments()) {
+    for (const Eigen::Vector3f& p : small.segment_map().member_points(s->id)) {
+      EXPECT_TRUE(held(p.x(), p.y(), p.z())) << "segment " << s->id;
+    }
+  }
+  ASSERT_GT(full.metric_map().blocks().block_count(), 400u);
+  EXPECT_LT(kept.size(), full.semantic_points().size());
+  EXPECT_LT(small.segment_map().point_count(), full.segment_map().point_count());
+  // Forgetting again finds nothing more to forget.
+  const double before = small.profile().counter("segment", "points_forgotten");
+  small.forget_dropped_regions();
+  EXPECT_EQ(small.profile().counter("segment", "points_forgotten"), before);
+}
+
 }  // namespace
 }  // namespace sarmap::pipeline
