@@ -1,14 +1,17 @@
 #include "engine/io/sequence_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/intrinsics.hpp"
 #include "engine/io/ply.hpp"
+#include "engine/io/run_folder.hpp"
 
 namespace sarmap {
 namespace {
@@ -36,7 +39,35 @@ void validate_sensor(const SensorInfo& s) {
   }
 }
 
+// Whether `name` is one add() gives a frame: "frame_", six or more digits, ".ply".
+bool is_frame_name(std::string_view name) {
+  constexpr std::string_view prefix = "frame_", suffix = ".ply";
+  if (name.size() < prefix.size() + 6 + suffix.size() || !name.starts_with(prefix) || !name.ends_with(suffix)) {
+    return false;
+  }
+  const std::string_view digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+void remove_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  if (ec) throw Error(ErrorCode::Io, path.string() + ": cannot remove: " + ec.message());
+}
+
 }  // namespace
+
+void remove_written_sequence(const std::filesystem::path& folder) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) return;
+  remove_file(folder / "sequence.json");
+  for (const std::filesystem::directory_entry& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.is_regular_file() && !entry.is_symlink() && is_frame_name(entry.path().filename().string())) {
+      remove_file(entry.path());
+    }
+  }
+  remove_stale_temporaries(folder);
+}
 
 SequenceWriter::SequenceWriter(std::filesystem::path folder, SensorInfo sensor) : folder_(std::move(folder)) {
   validate_sensor(sensor);
@@ -45,9 +76,7 @@ SequenceWriter::SequenceWriter(std::filesystem::path folder, SensorInfo sensor) 
   std::error_code ec;
   std::filesystem::create_directories(folder_, ec);
   if (ec) throw Error(ErrorCode::Io, folder_.string() + ": cannot create folder: " + ec.message());
-  std::filesystem::remove(folder_ / "sequence.json", ec);
-  if (ec)
-    throw Error(ErrorCode::Io, (folder_ / "sequence.json").string() + ": cannot remove: " + ec.message());
+  remove_file(folder_ / "sequence.json");
 }
 
 void SequenceWriter::add(const Scan& scan) {

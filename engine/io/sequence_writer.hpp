@@ -38,4 +38,13 @@ class SequenceWriter {
   bool finished_ = false;
 };
 
+// Removes from `folder` what a SequenceWriter writes there, so a shorter
+// sequence written after a longer one leaves no stale frames: sequence.json
+// first (no index then names a missing frame), every regular file named
+// frame_NNNNNN.ply (six or more digits) directly in it, and the temporaries
+// of writers that were killed. Every other file and subfolder stays. A folder
+// that does not exist is left so. Throws sarmap::Error naming a file that
+// cannot be removed.
+void remove_written_sequence(const std::filesystem::path& folder);
+
 }  // namespace sarmap

@@ -108,6 +108,9 @@ void write_simulated_sequence(const Simulator& simulator, const std::filesystem:
                               const std::function<void(std::size_t, std::size_t)>& progress) {
   const std::size_t frames =
       max_frames == 0 ? simulator.frame_count() : std::min(max_frames, simulator.frame_count());
+  // What an earlier, longer simulation into this folder left must not stay
+  // beside the new frames; files it did not write stay.
+  remove_written_sequence(folder);
   SequenceWriter writer(folder, sensor_info(simulator.arena().sensor));
   for (std::size_t f = 0; f < frames; ++f) {
     const Scan scan = simulator.simulate(f);

@@ -2,6 +2,9 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -11,6 +14,7 @@
 #include "engine/io/scan_source.hpp"
 #include "error_message.hpp"
 #include "scratch_folder.hpp"
+#include "tests/file_bytes.hpp"
 
 namespace sarmap {
 namespace {
@@ -103,6 +107,49 @@ TEST(SequenceWriter, ReplacesAnOldIndexAndRefusesBadInput) {
   lidar_k.type = SensorType::Lidar;
   lidar_k.intrinsics = PinholeIntrinsics{4, 4, 50, 50, 1, 1};
   EXPECT_THAT(error_message([&] { SequenceWriter(dir / "z", lidar_k); }), HasSubstr("depth camera"));
+}
+
+// Only what the writer writes goes: sequence.json, frame_NNNNNN.ply (six or
+// more digits) and the temporaries of writers that are gone; near-miss names,
+// other files, subfolders, symlinks and a live writer's temporary stay.
+TEST(SequenceWriter, RemoveWrittenSequenceRemovesOnlyTheWritersFiles) {
+  namespace fs = std::filesystem;
+  test::ScratchFolder dir;
+  {
+    SequenceWriter writer(dir.path(), SensorInfo{});
+    for (int i = 0; i < 3; ++i) writer.add(make_scan(i));
+    writer.finish();
+  }
+  dir.write("frame_1234567.ply", "frame 1,234,567");
+  const pid_t gone = ::fork();
+  if (gone == 0) ::_exit(0);
+  ::waitpid(gone, nullptr, 0);
+  const std::string dead = ".frame_000003.ply.tmp." + std::to_string(gone) + ".1";
+  const std::string live = ".frame_000003.ply.tmp." + std::to_string(::getpid()) + ".2";
+  dir.write(dead, "half a frame");
+  dir.write(live, "being written");
+  const std::vector<std::string> kept = {"notes.txt",        "frame_00001.ply",     "frame_000001.pcd",
+                                         "frame_00000a.ply", "my_frame_000001.ply", "sub/frame_000000.ply",
+                                         live};
+  for (const std::string& name : kept) {
+    if (!fs::exists(dir / name)) dir.write(name, "not the writer's");
+  }
+  fs::create_symlink(dir / "notes.txt", dir / "frame_000009.ply");
+
+  remove_written_sequence(dir.path());
+  std::vector<std::string> left;
+  for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
+    if (!entry.is_directory()) left.push_back(entry.path().lexically_relative(dir.path()).string());
+  }
+  std::vector<std::string> expected = kept;
+  expected.push_back("frame_000009.ply");
+  std::sort(left.begin(), left.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(left, expected);
+  EXPECT_EQ(test::slurp(dir / "notes.txt"), "not the writer's");
+
+  remove_written_sequence(dir / "absent");  // nothing to clear is no error
+  EXPECT_FALSE(fs::exists(dir / "absent"));
 }
 
 }  // namespace

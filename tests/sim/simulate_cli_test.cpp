@@ -2,6 +2,10 @@
 // the same points the library simulates, and reports bad arenas clearly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 #include "engine/io/scan_source.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
@@ -65,6 +69,31 @@ TEST_F(SimulateCli, RandomArenaIsSavedAndSimulated) {
   const Arena a = load_arena(dir_ / "random.json");
   EXPECT_EQ(a.name, "random-17");
   EXPECT_EQ(open_scan_sequence(dir_ / "seq")->size(), 2u);
+}
+
+// A shorter simulation into the folder of a longer one: the old frames go,
+// files simulate did not write stay.
+TEST_F(SimulateCli, ReplacesAnEarlierSequenceAndKeepsForeignFiles) {
+  nlohmann::json j = testing::base_arena_json();
+  j["trajectory"]["frames"] = 6;
+  std::ofstream(dir_ / "arena.json") << j.dump();
+  const std::string simulate = "simulate " + (dir_ / "arena.json").string() + " --out " + (dir_ / "seq").string();
+  ASSERT_EQ(sarmap::testing::run_cli(simulate + " --quiet", dir_).exit_code, 0);
+  ASSERT_TRUE(std::filesystem::exists(dir_ / "seq" / "frame_000005.ply"));
+  std::ofstream(dir_ / "seq" / "notes.txt") << "the operator's notes";
+  std::ofstream(dir_ / "seq" / "frame_000005.pcd") << "not simulate's name";
+
+  const auto r = sarmap::testing::run_cli(simulate + " --frames 3 --quiet", dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_ / "seq")) {
+    left.push_back(entry.path().filename().string());
+  }
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"frame_000000.ply", "frame_000001.ply", "frame_000002.ply",
+                                            "frame_000005.pcd", "notes.txt", "sequence.json"}));
+  EXPECT_EQ(sarmap::testing::slurp(dir_ / "seq" / "notes.txt"), "the operator's notes");
+  EXPECT_EQ(open_scan_sequence(dir_ / "seq")->size(), 3u);
 }
 
 TEST_F(SimulateCli, BadArenaFailsWithItsMessage) {

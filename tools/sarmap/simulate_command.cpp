@@ -71,7 +71,9 @@ void add_simulate_command(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app.add_subcommand("simulate", "Simulate a sensor in an arena and write a sequence folder");
   cmd->add_option("arena", args->arena, "Arena description (datasets/arenas/*.json)");
-  cmd->add_option("--out", args->out, "Output sequence folder");
+  cmd->add_option("--out", args->out,
+                  "Output sequence folder (an earlier sequence.json and frame_NNNNNN.ply files there are "
+                  "removed first; other files stay)");
   cmd->add_option("--seed", args->seed, "Seed of the sensor noise (default 0)")->check(finite_non_negative());
   cmd->add_option("--frames", args->frames, "Simulate only the first N frames")->check(CLI::PositiveNumber);
   cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
