@@ -59,6 +59,7 @@ class SarmapSequence final : public ScanSource {
   void skip_to(std::size_t frame) override { next_ = frame; }
   const SensorInfo& sensor() const override { return manifest_.sensor; }
   std::string layout() const override { return "sarmap"; }
+  std::string arena_sha256() const override { return manifest_.arena_sha256; }
 
  private:
   std::filesystem::path folder_;

@@ -16,6 +16,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/file_bytes.hpp"
 #include "engine/io/intrinsics.hpp"
+#include "engine/io/sha256.hpp"
 
 namespace sarmap {
 namespace {
@@ -181,7 +182,7 @@ SequenceManifest parse_sequence_manifest(std::string_view json_text, const std::
   }
   if (!j.is_object())
     ctx.fail(ErrorCode::Parse, "", std::string("expected a JSON object, got ") + j.type_name());
-  ctx.only_keys(j, "", {"version", "points_frame", "sensor", "frames"});
+  ctx.only_keys(j, "", {"version", "points_frame", "sensor", "frames", "arena_sha256"});
   const Json& version = ctx.require(j, "", "version");
   if (!version.is_number_integer() || version.get<long long>() != kSequenceFormatVersion) {
     ctx.fail(ErrorCode::Unsupported, "version",
@@ -199,6 +200,13 @@ SequenceManifest parse_sequence_manifest(std::string_view json_text, const std::
              "expected \"world\" or \"sensor\", got " + points_frame.dump());
   }
   if (j.contains("sensor")) manifest.sensor = parse_sensor(j["sensor"], ctx);
+  if (j.contains("arena_sha256")) {
+    const Json& hash = j["arena_sha256"];
+    if (!hash.is_string() || !is_sha256_hex(hash.get<std::string>())) {
+      ctx.fail(ErrorCode::Parse, "arena_sha256", "expected 64 lowercase hex digits, got " + hash.dump());
+    }
+    manifest.arena_sha256 = hash.get<std::string>();
+  }
   const Json& frames = ctx.require(j, "", "frames");
   if (!frames.is_array())
     ctx.fail(ErrorCode::Parse, "frames", std::string("expected an array, got ") + frames.type_name());
@@ -251,6 +259,7 @@ std::string sequence_manifest_json(const SequenceManifest& manifest) {
     }
     out += " \"sensor\": " + sensor.dump() + ",\n";
   }
+  if (!manifest.arena_sha256.empty()) out += " \"arena_sha256\": " + Json(manifest.arena_sha256).dump() + ",\n";
   out += " \"frames\": [";
   for (std::size_t i = 0; i < manifest.frames.size(); ++i) {
     const SequenceManifestFrame& f = manifest.frames[i];

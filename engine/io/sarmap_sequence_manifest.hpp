@@ -3,6 +3,7 @@
 //   {"version": 1, "points_frame": "world" | "sensor",
 //    "sensor": {"type": "depth_camera" | "lidar", "max_range": m, "min_range": m,
 //               "width", "height", "fx", "fy", "cx", "cy"},        (optional)
+//    "arena_sha256": "64 lowercase hex digits",                    (optional: simulated sequences)
 //    "frames": [{"file": "frame_000000.ply", "pose": [16 row-major numbers],
 //                "origin": [x, y, z], "timestamp": s}, ...]}      (origin, timestamp optional;
 //   timestamps are given for every frame or for none, and never decrease)
@@ -35,6 +36,10 @@ struct SequenceManifest {
   PointsFrame points_frame = PointsFrame::World;
   SensorInfo sensor;
   std::vector<SequenceManifestFrame> frames;
+  // SHA-256 of the arena description a simulated sequence was rendered from
+  // (the arena file's bytes), so a run can name the arena that scores it;
+  // empty for recordings and for sequences written before it was recorded.
+  std::string arena_sha256;
 };
 
 // Parses and validates; `file` names the source in errors, e.g.

@@ -35,6 +35,10 @@ class ScanSource {
   // Frames of the dataset left out of the sequence (a TUM depth frame with no
   // ground-truth pose close enough in time); size() does not count them.
   virtual std::size_t skipped_frames() const { return 0; }
+  // The SHA-256 of the arena description a simulated sequence was rendered
+  // from (sequence.json's "arena_sha256"); empty for recorded data and for
+  // sequences that do not record it.
+  virtual std::string arena_sha256() const { return {}; }
 };
 
 struct ScanSequenceOptions {

@@ -12,6 +12,7 @@
 #include "engine/io/intrinsics.hpp"
 #include "engine/io/ply.hpp"
 #include "engine/io/run_folder.hpp"
+#include "engine/io/sha256.hpp"
 
 namespace sarmap {
 namespace {
@@ -95,6 +96,15 @@ void SequenceWriter::add(const Scan& scan) {
   std::snprintf(name, sizeof name, "frame_%06zu.ply", manifest_.frames.size());
   write_ply(folder_ / name, scan.points);
   manifest_.frames.push_back({name, scan.pose, scan.origin, scan.timestamp});
+}
+
+void SequenceWriter::set_arena_sha256(std::string sha256) {
+  if (finished_) throw Error(ErrorCode::InvalidArgument, "SequenceWriter: set_arena_sha256() after finish()");
+  if (!is_sha256_hex(sha256)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "SequenceWriter: arena_sha256 \"" + sha256 + "\" is not 64 lowercase hex digits");
+  }
+  manifest_.arena_sha256 = std::move(sha256);
 }
 
 void SequenceWriter::finish() {

@@ -4,12 +4,14 @@
 //
 // sequence.json: {"version": 1, "points_frame": "world" | "sensor",
 //   "sensor": {"type": ..., "max_range": ..., ...intrinsics},
+//   "arena_sha256": "..." (a simulated sequence's arena),
 //   "frames": [{"file", "pose": [16 row-major], "origin": [x,y,z], "timestamp"}]}
 // (format and checks: sarmap_sequence_manifest.hpp)
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
+#include <string>
 
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
@@ -27,6 +29,10 @@ class SequenceWriter {
   // Writes the scan's points (world frame) as the next frame and records its
   // pose, origin, timestamp. Timestamps must not decrease.
   void add(const Scan& scan);
+  // Records the SHA-256 of the arena file a simulated sequence comes from
+  // (64 lowercase hex digits; InvalidArgument otherwise), so that runs of it
+  // name their arena and eval can refuse another. Before finish().
+  void set_arena_sha256(std::string sha256);
   // Writes sequence.json. Nothing names the frames until this is called.
   void finish();
   std::size_t frames_written() const { return manifest_.frames.size(); }

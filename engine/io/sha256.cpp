@@ -114,6 +114,12 @@ std::string sha256_hex(std::string_view bytes) {
   return hasher.hex_digest();
 }
 
+bool is_sha256_hex(std::string_view text) {
+  return text.size() == 64 && std::all_of(text.begin(), text.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
 FileDigest digest_file(const std::filesystem::path& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) throw Error(ErrorCode::Io, path.string() + ": cannot open: " + std::strerror(errno));

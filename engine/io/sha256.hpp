@@ -31,6 +31,9 @@ class Sha256 {
 
 std::string sha256_hex(std::string_view bytes);
 
+// Whether `text` is a digest as hex_digest() writes it: 64 lowercase hex digits.
+bool is_sha256_hex(std::string_view text);
+
 struct FileDigest {
   std::uint64_t bytes = 0;
   std::string sha256;

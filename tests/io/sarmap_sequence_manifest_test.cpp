@@ -146,5 +146,33 @@ TEST(SequenceManifest, EveryBadFieldIsNamed) {
               HasSubstr("sensor.width: expected a positive whole number"));
 }
 
+// Simulated sequences name their arena by its hash; recordings and sequences
+// written before the field existed have none and still read.
+TEST(SequenceManifest, ArenaHashIsOptionalAndChecked) {
+  const std::string hash(64, 'a');
+  const std::string frame = R"({"file": "f.ply", "pose": )" + kIdentity + "}";
+  EXPECT_EQ(parse_sequence_manifest(manifest_with(frame), "s.json").arena_sha256, "");
+  const SequenceManifest with =
+      parse_sequence_manifest(manifest_with(frame, R"("arena_sha256": ")" + hash + R"(", )"), "s.json");
+  EXPECT_EQ(with.arena_sha256, hash);
+  ASSERT_EQ(with.frames.size(), 1u);
+  EXPECT_EQ(parse_sequence_manifest(sequence_manifest_json(with), "written").arena_sha256, hash);
+  SequenceManifest without = with;
+  without.arena_sha256.clear();
+  const std::string text = sequence_manifest_json(without);
+  EXPECT_EQ(text.find("arena_sha256"), std::string::npos) << text;
+  EXPECT_EQ(parse_sequence_manifest(text, "written").arena_sha256, "");
+
+  auto msg = [&](const std::string& value) {
+    return error_message(
+        [&] { parse_sequence_manifest(manifest_with(frame, R"("arena_sha256": )" + value + ", "), "s.json"); });
+  };
+  EXPECT_THAT(msg("\"" + std::string(64, 'A') + "\""), HasSubstr("s.json: arena_sha256: expected 64 lowercase hex"));
+  EXPECT_THAT(msg("\"" + std::string(63, 'a') + "\""), HasSubstr("arena_sha256"));
+  EXPECT_THAT(msg("\"" + std::string(63, 'a') + "g\""), HasSubstr("arena_sha256"));
+  EXPECT_THAT(msg("12"), HasSubstr("arena_sha256"));
+  EXPECT_THAT(msg("null"), HasSubstr("arena_sha256"));
+}
+
 }  // namespace
 }  // namespace sarmap

@@ -109,6 +109,28 @@ TEST(SequenceWriter, ReplacesAnOldIndexAndRefusesBadInput) {
   EXPECT_THAT(error_message([&] { SequenceWriter(dir / "z", lidar_k); }), HasSubstr("depth camera"));
 }
 
+// The arena hash a simulation records reaches the run through the source.
+TEST(SequenceWriter, RecordsTheArenaHash) {
+  test::ScratchFolder dir;
+  const std::string hash = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+  {
+    SequenceWriter writer(dir / "sim", SensorInfo{});
+    writer.add(make_scan(0));
+    writer.set_arena_sha256(hash);
+    writer.finish();
+    EXPECT_THAT(error_message([&] { writer.set_arena_sha256(hash); }), HasSubstr("after finish"));
+  }
+  EXPECT_EQ(open_scan_sequence(dir / "sim")->arena_sha256(), hash);
+  {
+    SequenceWriter writer(dir / "recorded", SensorInfo{});
+    writer.add(make_scan(0));
+    writer.finish();
+  }
+  EXPECT_EQ(open_scan_sequence(dir / "recorded")->arena_sha256(), "");
+  SequenceWriter writer(dir / "bad", SensorInfo{});
+  EXPECT_THAT(error_message([&] { writer.set_arena_sha256("abc"); }), HasSubstr("not 64 lowercase hex digits"));
+}
+
 // Only what the writer writes goes: sequence.json, frame_NNNNNN.ply (six or
 // more digits) and the temporaries of writers that are gone; near-miss names,
 // other files, subfolders, symlinks and a live writer's temporary stay.
