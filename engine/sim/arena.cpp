@@ -10,6 +10,7 @@
 #include "engine/core/error.hpp"
 #include "engine/geometry/float_limits.hpp"
 #include "engine/io/file_bytes.hpp"
+#include "engine/io/sha256.hpp"
 #include "engine/sim/mesh_loader.hpp"
 
 namespace sarmap::sim {
@@ -335,6 +336,7 @@ Arena parse_arena(std::string_view json_text, std::string_view source_view,
   Fields f(j, source);
   Arena a;
   a.source = source;
+  a.sha256 = sha256_hex(json_text);
   if (const Json* v = f.optional("version")) {
     if (!v->is_number_integer() || v->get<std::int64_t>() != 1) f.fail("version", "must be 1");
   }

@@ -109,6 +109,11 @@ struct Arena {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> eval_pairs;
   // Where the description came from, for messages.
   std::string source;
+  // SHA-256 of the description's bytes as parsed (load_arena: the file's
+  // bytes). A simulated sequence records it, so a run's arena can be checked
+  // (eval::evaluate_run). Empty for an arena built in code; a mesh element's
+  // file is not part of it.
+  std::string sha256;
 };
 
 // Parses a description; `source` names it in errors, mesh paths are resolved

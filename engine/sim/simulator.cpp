@@ -112,6 +112,8 @@ void write_simulated_sequence(const Simulator& simulator, const std::filesystem:
   // beside the new frames; files it did not write stay.
   remove_written_sequence(folder);
   SequenceWriter writer(folder, sensor_info(simulator.arena().sensor));
+  // Runs of the sequence carry it into their manifest; eval checks it.
+  if (!simulator.arena().sha256.empty()) writer.set_arena_sha256(simulator.arena().sha256);
   for (std::size_t f = 0; f < frames; ++f) {
     const Scan scan = simulator.simulate(f);
     writer.add(scan);

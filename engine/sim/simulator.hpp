@@ -61,8 +61,9 @@ class Simulator {
 
 // Writes frames [0, max_frames) (all when 0) as a sarmap sequence folder,
 // first removing the sequence a SequenceWriter wrote there before
-// (remove_written_sequence; other files stay). `progress(frame, points)` is
-// called after each frame when given.
+// (remove_written_sequence; other files stay). sequence.json records the
+// arena's sha256 when it has one. `progress(frame, points)` is called after
+// each frame when given.
 void write_simulated_sequence(const Simulator& simulator, const std::filesystem::path& folder,
                               std::size_t max_frames = 0,
                               const std::function<void(std::size_t, std::size_t)>& progress = {});

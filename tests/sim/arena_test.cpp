@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "engine/core/error.hpp"
+#include "engine/io/sha256.hpp"
 #include "tests/sim/test_arenas.hpp"
 
 namespace sarmap::sim {
@@ -33,6 +34,19 @@ TEST(Arena, ShippedArenasParse) {
   const Arena building = load_arena(SARMAP_SOURCE_DIR "/datasets/arenas/building-52x15.json");
   EXPECT_DOUBLE_EQ(building.bounds_max.x(), 52.0);
   EXPECT_DOUBLE_EQ(building.bounds_max.y(), 15.0);
+}
+
+// The hash a simulated sequence records is the file's, byte for byte.
+TEST(Arena, Sha256IsOfTheBytesAsRead) {
+  const std::filesystem::path file = SARMAP_SOURCE_DIR "/datasets/arenas/esogu-6x4.json";
+  const Arena esogu = load_arena(file);
+  EXPECT_EQ(esogu.sha256, digest_file(file).sha256);
+  EXPECT_NE(load_arena(SARMAP_SOURCE_DIR "/datasets/arenas/building-52x15.json").sha256, esogu.sha256);
+  const std::string text = base_arena_json().dump();
+  EXPECT_EQ(parse_arena(text, "a.json", ".").sha256, sha256_hex(text));
+  // One more space is another file.
+  EXPECT_NE(parse_arena(text + " ", "a.json", ".").sha256, sha256_hex(text));
+  EXPECT_EQ(Arena{}.sha256, "");
 }
 
 TEST(Arena, ParsesEveryElementAndDefaults) {

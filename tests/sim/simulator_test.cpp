@@ -11,10 +11,12 @@
 #include <numbers>
 #include <set>
 
+#include "engine/io/scan_source.hpp"
 #include "engine/sim/arena_mesh.hpp"
 #include "engine/sim/ground_height.hpp"
 #include "engine/sim/ray_noise.hpp"
 #include "engine/sim/trajectory.hpp"
+#include "tests/sim/run_cli.hpp"
 #include "tests/sim/test_arenas.hpp"
 
 namespace sarmap::sim {
@@ -249,6 +251,19 @@ TEST(Simulator, PacketAndSingleRaysAgree) {
     }
     EXPECT_GT(hits, n / 2);
   }
+}
+
+// A simulated sequence names the arena it came from, so runs of it can too.
+TEST(Simulator, SequenceRecordsTheArenasHash) {
+  const auto dir = sarmap::testing::scratch_dir("simulator_arena_hash");
+  Arena arena = testing::parse_test_arena(testing::base_arena_json());
+  ASSERT_EQ(arena.sha256.size(), 64u);
+  write_simulated_sequence(Simulator(arena), dir / "seq", 1);
+  EXPECT_EQ(open_scan_sequence(dir / "seq")->arena_sha256(), arena.sha256);
+  arena.sha256.clear();  // built in code: nothing to record
+  write_simulated_sequence(Simulator(arena), dir / "seq", 1);
+  EXPECT_EQ(open_scan_sequence(dir / "seq")->arena_sha256(), "");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Trajectory, EvenlySpacedPosesAboveTheGround) {
