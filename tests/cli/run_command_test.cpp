@@ -7,11 +7,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
@@ -127,6 +129,31 @@ TEST_F(RunCommand, WritesEveryOutput) {
   // No segment, no node: an empty graph in each format, and a grid of what was seen.
   EXPECT_EQ(json_of(out / "graph.json").at("nodes").size(), 0u);
   for (const char* f : {"graph.graphml", "graph.ply", "grid.pgm", "grid.yaml"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+}
+
+// semantic_points.ply and voxels.ply carry red, green and blue from the one
+// class table, point by point, as the segment and graph files do.
+TEST_F(RunCommand, PointsAndVoxelsAreColouredByClass) {
+  const fs::path out = dir_ / "run";
+  const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) +
+                             " --voxel 0.1 --classifier labels --quiet",
+                         dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* file : {"semantic_points.ply", "voxels.ply"}) {
+    const PointBuffer points = read_point_cloud(out / file);
+    ASSERT_TRUE(points.has_colors()) << file;
+    ASSERT_TRUE(points.has_labels()) << file;
+    std::set<int> classes;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      classes.insert(points.labels()[i]);
+      const Rgb want = class_info(static_cast<ClassId>(points.labels()[i])).color;
+      EXPECT_EQ(points.red()[i], want.r) << file << " point " << i;
+      EXPECT_EQ(points.green()[i], want.g) << file << " point " << i;
+      EXPECT_EQ(points.blue()[i], want.b) << file << " point " << i;
+    }
+    // The tiny sequence's labels: terrain, wall and inclined ramp, so the colours differ.
+    EXPECT_EQ(classes, (std::set<int>{1, 2, 3})) << file;
+  }
 }
 
 TEST_F(RunCommand, MissingInputIsAnError) {

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
+#include "engine/core/class_colors.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/version.hpp"
 #include "engine/io/atomic_file.hpp"
@@ -227,7 +228,11 @@ RunSummary run_pipeline(const RunOptions& o) {
   metric::save_map(map, folder.path_of("map.sarmap"));
   metric::write_octomap_bt(map, folder.path_of("map.bt"));
   write_point_cloud(folder.path_of("voxels.ply"), metric::occupied_voxel_cloud(map));
-  write_point_cloud(folder.path_of("semantic_points.ply"), mapper.semantic_points());
+  {
+    PointBuffer semantic = mapper.semantic_points();  // a copy: the colours are for the file only
+    paint_class_colors(semantic);
+    write_point_cloud(folder.path_of("semantic_points.ply"), semantic);
+  }
   segments::write_segments_json(folder.path_of("segments.json"), mapper.segment_map());
   segments::write_segments_ply(folder.path_of("segments.ply"), mapper.segment_map());
   const topo::TopoMap& topo = mapper.topo_map();
