@@ -1,11 +1,12 @@
 #include "engine/pipeline/checkpoint.hpp"
 
-#include <fstream>
-#include <iterator>
+#include <cstdint>
+#include <limits>
 #include <string_view>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/file_bytes.hpp"
 #include "engine/io/sha256.hpp"
 
 namespace sarmap::pipeline {
@@ -14,21 +15,20 @@ namespace {
 constexpr std::string_view kMagic = "SARMAPCK";
 constexpr std::size_t kDigestChars = 64;
 
-// The file's bytes without the trailing digest, after checking it.
-std::string read_verified(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, file.string() + ": cannot open the checkpoint");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(ErrorCode::Io, file.string() + ": cannot read the checkpoint");
-  if (bytes.size() < kMagic.size() + kDigestChars || std::string_view(bytes).substr(0, kMagic.size()) != kMagic) {
+// The file's bytes, after checking the trailing digest. A checkpoint is no
+// input from outside: it may be as large as the state it holds, so the input
+// limits on file size do not apply.
+FileBytes read_verified(const std::filesystem::path& file) {
+  FileBytes file_bytes = read_file_bytes(file, std::numeric_limits<std::uint64_t>::max());
+  const std::string_view bytes = file_bytes.view();
+  if (bytes.size() < kMagic.size() + kDigestChars || bytes.substr(0, kMagic.size()) != kMagic) {
     throw Error(ErrorCode::Parse, file.string() + ": not a sarmap checkpoint");
   }
-  const std::string stored = bytes.substr(bytes.size() - kDigestChars);
-  bytes.resize(bytes.size() - kDigestChars);
-  if (sha256_hex(bytes) != stored) {
+  const std::string_view stored = bytes.substr(bytes.size() - kDigestChars);
+  if (sha256_hex(bytes.substr(0, bytes.size() - kDigestChars)) != stored) {
     throw Error(ErrorCode::Parse, file.string() + ": the checkpoint is damaged (its SHA-256 does not match)");
   }
-  return bytes;
+  return file_bytes;
 }
 
 CheckpointHeader read_header(StateReader& in, const std::filesystem::path& file) {
@@ -66,8 +66,8 @@ void save_checkpoint(const std::filesystem::path& file, const CheckpointHeader& 
 }
 
 CheckpointHeader load_checkpoint(const std::filesystem::path& file, const std::string& fingerprint, Mapper& mapper) {
-  const std::string bytes = read_verified(file);
-  StateReader in(bytes, file.string());
+  const FileBytes file_bytes = read_verified(file);
+  StateReader in(file_bytes.view().substr(0, file_bytes.size() - kDigestChars), file.string());
   CheckpointHeader header = read_header(in, file);
   if (header.fingerprint != fingerprint) {
     throw Error(ErrorCode::InvalidArgument,
