@@ -42,6 +42,9 @@ std::string sequence_stamp(const fs::path& arena_file, const sim::Arena& arena, 
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
   nlohmann::ordered_json j;
   j["arena_fnv1a64"] = hex;
+  // A sequence cached before sequences recorded their arena has a stamp
+  // without this key: it is simulated again, so eval can check its runs.
+  j["arena_sha256"] = arena.sha256;
   j["seed"] = seed;
   j["sarmap_version"] = kVersion;
   return j.dump() + "\n";

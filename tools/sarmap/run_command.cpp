@@ -251,6 +251,9 @@ RunSummary run_pipeline(const RunOptions& o) {
   manifest["version"] = kRunManifestVersion;
   manifest["sarmap_version"] = kVersion;
   manifest["input"] = input;
+  // Simulated input only: the arena the sequence was rendered from, which
+  // eval holds the --arena it is given to (engine/eval/run_evaluation.hpp).
+  if (const std::string arena = source->arena_sha256(); !arena.empty()) manifest["arena_sha256"] = arena;
   manifest["layout"] = source->layout();
   manifest["scans"] = scans;
   manifest["scans_skipped"] = skipped.count();
