@@ -9,6 +9,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/ply.hpp"
 #include "engine/io/run_folder.hpp"
+#include "engine/io/sha256.hpp"
 #include "engine/metric/map_file.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -52,6 +53,49 @@ void note_partial_run(const sim::Arena& arena, const std::filesystem::path& run_
   }
 }
 
+// Figures against another arena than the run's mean nothing (a recall near
+// 0 that looks like a bad map), so a run whose manifest names its arena is
+// refused any other. Returns whether the arena was checked.
+bool check_arena(const sim::Arena& arena, const std::filesystem::path& run_dir,
+                 std::vector<std::string>& notes) {
+  const std::filesystem::path path = run_dir / "manifest.json";
+  std::ifstream in(path);
+  const Json manifest = Json::parse(in, nullptr, false);  // verify_run_folder read it already
+  const auto it = manifest.is_object() ? manifest.find("arena_sha256") : manifest.end();
+  if (it == manifest.end() || it->is_null()) {
+    notes.push_back(
+        "the run's input records no arena (not simulated, or simulated before sequences recorded "
+        "their arena): not checked that it was mapped from " +
+        arena.source);
+    return false;
+  }
+  if (!it->is_string() || !is_sha256_hex(it->get<std::string>())) {
+    throw Error(ErrorCode::InvalidData,
+                path.string() + ": arena_sha256: expected 64 lowercase hex digits, got " + it->dump());
+  }
+  const std::string recorded = it->get<std::string>();
+  if (arena.sha256.empty()) {
+    notes.push_back(
+        "the arena was not read from a file (no sha256): not checked against the run's arena_sha256 " +
+        recorded);
+    return false;
+  }
+  if (recorded != arena.sha256) {
+    std::string input;
+    if (manifest.contains("input") && manifest["input"].is_object() && manifest["input"].contains("path") &&
+        manifest["input"]["path"].is_string()) {
+      input = " " + manifest["input"]["path"].get<std::string>();
+    }
+    throw Error(ErrorCode::InvalidArgument,
+                "run " + run_dir.string() + " was mapped from a sequence" + input +
+                    " simulated from the arena with sha256 " + recorded +
+                    " (manifest.json's arena_sha256), but arena " + arena.source + " (\"" + arena.name +
+                    "\") has sha256 " + arena.sha256 +
+                    ": score the run against the arena its sequence was simulated from");
+  }
+  return true;
+}
+
 }  // namespace
 
 RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir) {
@@ -61,6 +105,7 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   }
   verify_run_folder(run_dir);  // a half-written or mixed folder is refused, not scored
   RunEvaluation e;
+  e.arena_checked = check_arena(arena, run_dir, e.notes);
   e.arena_name = arena.name;
   e.run_dir = run_dir;
   for (const char* name : {kPointsFile, kMapFile, kSegmentsFile, kGraphFile}) {
@@ -126,6 +171,7 @@ std::string format_json(const RunEvaluation& e) {
   Json j;
   j["arena"] = e.arena_name;
   j["run"] = e.run_dir.string();
+  j["arena_checked"] = e.arena_checked;
   Json files = Json::object();
   Json absent = Json::array();
   for (const RunFile& f : e.files) {

@@ -34,6 +34,9 @@ struct RunEvaluation {
   // graph.json: edges against the true walls, routes of the arena's pairs.
   std::optional<GraphScores> graph;
   std::vector<std::string> notes;          // what was not scored, and why
+  // Whether the run's manifest named its arena (arena_sha256) and it was this
+  // arena; false when the run records none (real data) and was scored unchecked.
+  bool arena_checked = false;
 };
 
 // Resolution of the voxels that say which faces were seen when the run has no map.
@@ -41,7 +44,10 @@ inline constexpr double kSegmentTruthResolution = 0.05;
 
 // Throws sarmap::Error: Io when run_dir is not a folder, InvalidData when its
 // manifest.json is missing or a file it lists does not match it
-// (engine/io/run_folder.hpp). Outputs the manifest does not list are absent.
+// (engine/io/run_folder.hpp), InvalidArgument naming both hashes when the
+// manifest's arena_sha256 (the arena a simulated input was rendered from) is
+// not `arena`'s sha256. A run that records no arena is scored with a note
+// saying it was not checked. Outputs the manifest does not list are absent.
 RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path& run_dir);
 
 std::string format_table(const RunEvaluation& evaluation);

@@ -60,6 +60,7 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_GT(eval.at("voxel_precision_within_1").get<double>(), 0.95);
   EXPECT_GT(eval.at("voxel_class_accuracy").get<double>(), 0.9);
   EXPECT_DOUBLE_EQ(eval.at("accuracy").get<double>(), 1.0);  // the labels classifier passes the truth through
+  EXPECT_EQ(eval.at("arena_checked"), true);  // the sequence named its arena, and it is this one
 }
 
 TEST_F(DemoCommand, ReusesTheCachedSequenceUntilItsInputsChange) {
@@ -91,6 +92,17 @@ TEST_F(DemoCommand, ReusesTheCachedSequenceUntilItsInputsChange) {
   r = demo(" --seed 7");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+
+  // Nor one cached before sequences recorded their arena (a stamp without
+  // arena_sha256): simulated again, so that eval can check the arena.
+  auto old_stamp = nlohmann::ordered_json::parse(test::read_all(out_ / "sequence.stamp"));
+  ASSERT_EQ(old_stamp.erase("arena_sha256"), 1u);
+  fs::remove(out_ / "sequence.stamp");
+  std::ofstream(out_ / "sequence.stamp", std::ios::binary) << old_stamp.dump() << "\n";
+  r = demo(" --seed 7");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("simulated now"), std::string::npos) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(test::read_all(out_ / "eval.json")).at("arena_checked"), true);
 }
 
 TEST_F(DemoCommand, BadArenaIsAnError) {
