@@ -6,6 +6,8 @@
 #include <cstring>
 #include <vector>
 
+#include "engine/core/error.hpp"
+
 namespace sarmap {
 
 static_assert(std::endian::native == std::endian::little, "binary point-cloud encoding assumes a little-endian host");
@@ -89,6 +91,21 @@ void write_text_records(AtomicFileWriter& out, std::span<const OutputColumn> col
     }
   }
   out.write(buffer);
+}
+
+std::string header_comment_lines(const std::vector<std::string>& comments, std::string_view prefix,
+                                 const std::filesystem::path& file) {
+  std::string lines;
+  for (const std::string& comment : comments) {
+    if (comment.find_first_of("\r\n") != std::string::npos) {
+      throw Error(ErrorCode::InvalidArgument,
+                  file.string() + ": header comment '" + comment + "' holds a line break");
+    }
+    lines.append(prefix);
+    lines += comment;
+    lines += '\n';
+  }
+  return lines;
 }
 
 }  // namespace sarmap

@@ -6,8 +6,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/scalar_type.hpp"
@@ -35,5 +38,11 @@ void encode_binary_columns(std::span<const OutputColumn> columns, std::size_t co
 // Writes one line per point, values separated by spaces; floats in the
 // shortest form that reads back to the same value.
 void write_text_records(AtomicFileWriter& out, std::span<const OutputColumn> columns, std::size_t count);
+
+// Header comment lines, each as prefix + text + "\n" (PLY "comment ", PCD
+// "# "). Throws sarmap::Error (InvalidArgument) naming the file for a
+// comment that holds a line break, which would end the comment early.
+std::string header_comment_lines(const std::vector<std::string>& comments, std::string_view prefix,
+                                 const std::filesystem::path& file);
 
 }  // namespace sarmap

@@ -58,7 +58,12 @@ PcdHeader parse_pcd_header(std::string_view bytes, const std::string& file) {
     }
     std::string_view rest = line;
     const std::string_view keyword = next_token(rest);
-    if (keyword.empty() || keyword.front() == '#') continue;
+    if (!keyword.empty() && keyword.front() == '#') {
+      const std::string_view text = trim(trim(line).substr(1));
+      if (text.substr(0, 5) != ".PCD ") header.comments.emplace_back(text);
+      continue;
+    }
+    if (keyword.empty()) continue;
     const std::size_t at = lines.line_number();
     if (keyword == "VERSION") {
       const auto values = tokens_of(rest);

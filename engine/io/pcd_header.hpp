@@ -34,6 +34,7 @@ struct PcdHeader {
   std::size_t type_line = 0;
   std::size_t count_line = 0;    // 0 when COUNT is absent (every count is 1)
   std::size_t points_line = 0;   // the POINTS line (or WIDTH when POINTS is absent)
+  std::vector<std::string> comments;  // text after '#' of each comment line but the ".PCD v0.7" banner
 
   // Bytes of one point in the binary encodings.
   std::size_t point_size() const;

@@ -259,6 +259,7 @@ PointBuffer read_pcd(const std::filesystem::path& path, PointCloudFileInfo* info
     for (const PcdField& f : header.fields) info->fields.push_back(f.name);
     info->points_in_file = static_cast<std::size_t>(header.points);
     info->dropped_non_finite = dropped;
+    info->comments = header.comments;
   }
   return points;
 }

@@ -51,7 +51,8 @@ std::vector<OutputColumn> pcd_columns(const PointBuffer& points) {
   return columns;
 }
 
-std::string pcd_header(const std::vector<OutputColumn>& columns, std::size_t count, std::string_view data) {
+std::string pcd_header(const std::vector<OutputColumn>& columns, std::size_t count, std::string_view data,
+                       const std::string& comments) {
   std::string fields = "FIELDS", sizes = "SIZE", types = "TYPE", counts = "COUNT";
   for (const OutputColumn& c : columns) {
     fields += ' ' + c.name;
@@ -61,9 +62,9 @@ std::string pcd_header(const std::vector<OutputColumn>& columns, std::size_t cou
     counts += " 1";
   }
   const std::string n = std::to_string(count);
-  return "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n" + fields + '\n' + sizes + '\n' + types + '\n' +
-         counts + "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA " +
-         std::string(data) + '\n';
+  return "# .PCD v0.7 - Point Cloud Data file format\n" + comments + "VERSION 0.7\n" + fields + '\n' + sizes +
+         '\n' + types + '\n' + counts + "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n +
+         "\nDATA " + std::string(data) + '\n';
 }
 
 }  // namespace
@@ -72,12 +73,13 @@ void write_pcd(const std::filesystem::path& path, const PointBuffer& points, con
   const std::vector<OutputColumn> columns = pcd_columns(points);
   const std::size_t count = points.size();
   const bool compressed = options.binary && options.compressed;
+  const std::string comments = header_comment_lines(options.comments, "# ", path);
   AtomicFileWriter out(path);
   if (!options.binary) {
-    out.write(pcd_header(columns, count, "ascii"));
+    out.write(pcd_header(columns, count, "ascii", comments));
     write_text_records(out, columns, count);
   } else if (!compressed) {
-    out.write(pcd_header(columns, count, "binary"));
+    out.write(pcd_header(columns, count, "binary", comments));
     write_binary_records(out, columns, count);
   } else {
     const std::size_t size = count * record_size(columns);
@@ -89,7 +91,7 @@ void write_pcd(const std::filesystem::path& path, const PointBuffer& points, con
     encode_binary_columns(columns, count, reinterpret_cast<char*>(unpacked.data()));
     const std::vector<std::uint8_t> packed = lzf_compress(unpacked);
     const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()), static_cast<std::uint32_t>(size)};
-    out.write(pcd_header(columns, count, "binary_compressed"));
+    out.write(pcd_header(columns, count, "binary_compressed", comments));
     out.write(sizes, sizeof(sizes));
     out.write(packed.data(), packed.size());
   }

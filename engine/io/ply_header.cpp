@@ -47,7 +47,11 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& file) {
     }
     std::string_view rest = line;
     const std::string_view keyword = next_token(rest);
-    if (keyword.empty() || keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "comment") {
+      header.comments.emplace_back(trim(rest));
+      continue;
+    }
+    if (keyword.empty() || keyword == "obj_info") continue;
     if (keyword == "end_header") break;
     if (keyword == "format") {
       const std::string_view name = next_token(rest);

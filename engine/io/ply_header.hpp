@@ -39,6 +39,7 @@ struct PlyHeader {
   std::vector<PlyElement> elements;
   std::size_t data_offset = 0;     // first byte after the end_header line
   std::size_t header_lines = 0;    // lines up to and including end_header
+  std::vector<std::string> comments;  // text of each 'comment' line, in order
 };
 
 std::string_view to_string(PlyEncoding encoding);

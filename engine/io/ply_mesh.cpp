@@ -5,6 +5,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/output_columns.hpp"
 
 namespace sarmap {
 namespace {
@@ -49,11 +50,11 @@ void check(const ColoredMesh& m, const std::filesystem::path& path) {
 
 void write_ply_mesh(const std::filesystem::path& path, const ColoredMesh& m) {
   check(m, path);
-  std::string out =
-      "ply\nformat binary_little_endian 1.0\ncomment written by sarmap\nelement vertex " +
-      std::to_string(m.vertices.size()) +
-      "\nproperty float x\nproperty float y\nproperty float z\n"
-      "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by sarmap\n" +
+                    header_comment_lines(m.comments, "comment ", path) + "element vertex " +
+                    std::to_string(m.vertices.size()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (!m.faces.empty()) out += "element face " + std::to_string(m.faces.size()) + "\nproperty list uchar int vertex_indices\n";
   if (!m.edges.empty()) {
     out += "element edge " + std::to_string(m.edges.size()) +

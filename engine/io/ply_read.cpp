@@ -354,6 +354,7 @@ PointBuffer read_ply(const std::filesystem::path& path, PointCloudFileInfo* info
     for (const PlyProperty& p : vertex.properties) info->fields.push_back(p.name);
     info->points_in_file = static_cast<std::size_t>(vertex.count);
     info->dropped_non_finite = dropped;
+    info->comments = header.comments;
   }
   return points;
 }

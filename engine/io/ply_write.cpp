@@ -55,7 +55,9 @@ void write_ply(const std::filesystem::path& path, const PointBuffer& points, con
   const std::vector<OutputColumn> columns = ply_columns(points);
   std::string header = "ply\nformat ";
   header += options.binary ? "binary_little_endian" : "ascii";
-  header += " 1.0\ncomment written by sarmap\nelement vertex ";
+  header += " 1.0\ncomment written by sarmap\n";
+  header += header_comment_lines(options.comments, "comment ", path);
+  header += "element vertex ";
   header += std::to_string(points.size());
   header += '\n';
   for (const OutputColumn& c : columns) {

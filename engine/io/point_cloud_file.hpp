@@ -22,6 +22,7 @@ struct PointCloudFileInfo {
   std::vector<std::string> fields;    // property / field names as written in the file
   std::size_t points_in_file = 0;     // as declared by the header
   std::size_t dropped_non_finite = 0; // points dropped for NaN/Inf coordinates
+  std::vector<std::string> comments{};  // PLY 'comment' lines, PCD '#' lines, without the keyword
 };
 
 struct PointCloudWriteOptions {
@@ -29,6 +30,9 @@ struct PointCloudWriteOptions {
   // PCD only, with binary: DATA binary_compressed (LZF, stored field by field).
   // PLY has no compressed encoding and ignores it.
   bool compressed = false;
+  // Header comment lines after "written by sarmap" (PLY 'comment', PCD '#'),
+  // e.g. "voxel_size 0.05". A line break in one is refused (InvalidArgument).
+  std::vector<std::string> comments{};
 };
 
 // Throws sarmap::Error for an unknown extension or a malformed file.

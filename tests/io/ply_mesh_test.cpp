@@ -2,6 +2,8 @@
 
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -39,6 +41,18 @@ TEST(PlyMesh, WritesVerticesFacesAndEdgesThatThePointReaderOpens) {
   ASSERT_EQ(points.size(), 4u);
   EXPECT_FLOAT_EQ(points.z()[3], 0.5f);
   EXPECT_EQ(points.red()[2], 10);
+}
+
+TEST(PlyMesh, WritesHeaderCommentsThePointReaderReturns) {
+  test::ScratchFolder dir;
+  ColoredMesh m = quad_and_edge();
+  m.comments = {"voxel_size 0.1"};
+  write_ply_mesh(dir / "m.ply", m);
+  PointCloudFileInfo info;
+  EXPECT_EQ(read_ply(dir / "m.ply", &info).size(), 4u);
+  EXPECT_EQ(info.comments, (std::vector<std::string>{"written by sarmap", "voxel_size 0.1"}));
+  m.comments = {"two\nlines"};
+  EXPECT_THROW(write_ply_mesh(dir / "n.ply", m), Error);
 }
 
 TEST(PlyMesh, RefusesInconsistentMeshes) {

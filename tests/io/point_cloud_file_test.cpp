@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "point_cloud_test_support.hpp"
 
 namespace sarmap {
@@ -62,6 +65,46 @@ TEST(PointCloudFile, AnUnwritableScoreNameIsRejectedAndTheTargetKept) {
   }
   // Only the two targets: no temporary file left behind.
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 2);
+}
+
+// Header comments (voxels.ply's "voxel_size") come back through the reader
+// in every format and encoding, after sarmap's own "written by" line; PCD's
+// ".PCD v0.7" banner is not one of them.
+TEST(PointCloudFile, HeaderCommentsRoundTripInEveryFormatAndEncoding) {
+  test::ScratchDir dir("pcf");
+  const PointBuffer cloud = make_cloud(20, 34);
+  struct Case {
+    const char* name;
+    PointCloudWriteOptions options;
+  };
+  const std::vector<std::string> comments = {"voxel_size 0.05", "second line"};
+  for (const Case& c : {Case{"b.ply", {.binary = true}}, Case{"a.ply", {.binary = false}},
+                        Case{"b.pcd", {.binary = true}}, Case{"a.pcd", {.binary = false}},
+                        Case{"c.pcd", {.binary = true, .compressed = true}}}) {
+    PointCloudWriteOptions options = c.options;
+    options.comments = comments;
+    write_point_cloud(dir / c.name, cloud, options);
+    PointCloudFileInfo info;
+    expect_same_cloud(cloud, read_point_cloud(dir / c.name, &info));
+    const bool ply = std::string(c.name).ends_with(".ply");
+    const std::vector<std::string> want =
+        ply ? std::vector<std::string>{"written by sarmap", "voxel_size 0.05", "second line"} : comments;
+    EXPECT_EQ(info.comments, want) << c.name;
+  }
+}
+
+TEST(PointCloudFile, AHeaderCommentWithALineBreakIsRefusedAndTheTargetKept) {
+  test::ScratchDir dir("pcf");
+  const PointBuffer good = make_cloud(5, 35);
+  for (const char* name : {"keep.ply", "keep.pcd"}) {
+    write_point_cloud(dir / name, good);
+    PointCloudWriteOptions options;
+    options.comments = {"voxel_size 0.05\nelement vertex 0"};
+    const Error e = test::error_from([&] { write_point_cloud(dir / name, make_cloud(5, 36), options); });
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument) << name;
+    EXPECT_THAT(e.what(), HasSubstr("line break")) << name;
+    expect_same_cloud(good, read_point_cloud(dir / name));
+  }
 }
 
 }  // namespace
