@@ -109,6 +109,25 @@ TEST(CliConvert, SequenceToSequenceFolder) {
     EXPECT_EQ(sa.pose.matrix(), sb.pose.matrix());
     EXPECT_EQ(sa.timestamp, sb.timestamp);
   }
+  EXPECT_EQ(b->arena_sha256(), "");  // a sequence that names no arena gives none
+}
+
+// A simulated sequence's arena stays named through convert, so its runs can
+// still be checked against the arena by eval.
+TEST(CliConvert, SequenceFolderKeepsTheArenaHash) {
+  test::ScratchFolder dir;
+  std::filesystem::copy(kTiny, dir / "sim");
+  const std::string hash(64, 'c');
+  std::string index = test::read_all(dir / "sim" / "sequence.json");
+  index.replace(index.find("\"points_frame\""), 0, "\"arena_sha256\": \"" + hash + "\",\n ");
+  std::filesystem::remove(dir / "sim" / "sequence.json");
+  dir.write("sim/sequence.json", index);
+  ASSERT_EQ(open_scan_sequence(dir / "sim")->arena_sha256(), hash);
+  const auto r = run_cli("convert --quiet --voxel 0.5 " + quoted((dir / "sim").string()) + " " +
+                             quoted((dir / "thinned").string()),
+                         dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(open_scan_sequence(dir / "thinned")->arena_sha256(), hash);
 }
 
 TEST(CliConvert, VoxelKeepsTheFirstPointOfEachVoxel) {

@@ -123,6 +123,8 @@ void run_convert(const ConvertArgs& a) {
   }
   if (a.ascii) throw Error(ErrorCode::InvalidArgument, "convert: --ascii applies to .ply / .pcd output only");
   SequenceWriter writer(out, source->sensor());
+  // Thinned or not, the frames still show the arena they were simulated in.
+  if (const std::string arena = source->arena_sha256(); !arena.empty()) writer.set_arena_sha256(arena);
   std::size_t points = 0;
   while (source->next(scan)) {
     if (thinning) scan.points = thinning->thin(scan.points);
