@@ -132,7 +132,8 @@ TEST_F(RunCommand, WritesEveryOutput) {
 }
 
 // semantic_points.ply and voxels.ply carry red, green and blue from the one
-// class table, point by point, as the segment and graph files do.
+// class table, point by point, as the segment and graph files do; voxels.ply
+// also its voxel size and each voxel's occupancy probability.
 TEST_F(RunCommand, PointsAndVoxelsAreColouredByClass) {
   const fs::path out = dir_ / "run";
   const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) +
@@ -154,6 +155,11 @@ TEST_F(RunCommand, PointsAndVoxelsAreColouredByClass) {
     // The tiny sequence's labels: terrain, wall and inclined ramp, so the colours differ.
     EXPECT_EQ(classes, (std::set<int>{1, 2, 3})) << file;
   }
+  // voxels.ply names its voxel size, which points alone cannot tell.
+  PointCloudFileInfo info;
+  const PointBuffer voxels = read_point_cloud(out / "voxels.ply", &info);
+  EXPECT_EQ(info.comments, (std::vector<std::string>{"written by sarmap", "voxel_size 0.1"}));
+  EXPECT_LT(voxels.find_score("probability"), voxels.score_count());
 }
 
 TEST_F(RunCommand, MissingInputIsAnError) {

@@ -227,7 +227,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   const metric::MetricMap& map = mapper.metric_map();
   metric::save_map(map, folder.path_of("map.sarmap"));
   metric::write_octomap_bt(map, folder.path_of("map.bt"));
-  write_point_cloud(folder.path_of("voxels.ply"), metric::occupied_voxel_cloud(map));
+  metric::write_voxel_cloud(map, folder.path_of("voxels.ply"));
   {
     PointBuffer semantic = mapper.semantic_points();  // a copy: the colours are for the file only
     paint_class_colors(semantic);
