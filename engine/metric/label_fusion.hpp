@@ -6,12 +6,18 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <string_view>
 
 #include "engine/core/classes.hpp"
 
 namespace sarmap::metric {
 
 enum class ClassFusion : std::uint8_t { Histogram = 0, Bayesian = 1 };
+
+// "histogram" or "bayesian", as manifest.json and `sarmap info` name them.
+constexpr std::string_view to_string(ClassFusion fusion) {
+  return fusion == ClassFusion::Bayesian ? "bayesian" : "histogram";
+}
 
 // Bayesian evidence is int16 fixed point: 1 unit = 1/256 nat (clamp <= 120 nats).
 inline constexpr double kEvidenceScale = 256.0;

@@ -1,5 +1,6 @@
 #include "engine/metric/map_file.hpp"
 
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -83,6 +84,12 @@ std::uint32_t crc_of(const char* data, std::size_t size, std::uint32_t crc = 0) 
 }
 
 }  // namespace
+
+bool is_map_file_path(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".sarmap";
+}
 
 void save_map(const MetricMap& map, const std::filesystem::path& path) {
   const MetricMapSettings& s = map.settings();

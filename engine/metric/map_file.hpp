@@ -20,6 +20,10 @@ namespace sarmap::metric {
 
 inline constexpr std::uint32_t kMapFileVersion = 1;
 
+// True for a path whose extension is .sarmap (any case): what `sarmap info`
+// and `sarmap convert` open as a metric map rather than a point cloud.
+bool is_map_file_path(const std::filesystem::path& path);
+
 // Written atomically: a crash leaves the old file or none, never half a map.
 void save_map(const MetricMap& map, const std::filesystem::path& path);
 // Loads the whole file or throws sarmap::Error naming the file, the byte

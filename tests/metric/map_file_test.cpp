@@ -60,6 +60,14 @@ std::string load_error(const fs::path& p) {
   return "";
 }
 
+TEST(MapFilePath, IsTheSarmapExtensionInAnyCase) {
+  EXPECT_TRUE(is_map_file_path("run/map.sarmap"));
+  EXPECT_TRUE(is_map_file_path("MAP.SarMap"));
+  EXPECT_FALSE(is_map_file_path("run/map.bt"));
+  EXPECT_FALSE(is_map_file_path("sarmap"));
+  EXPECT_FALSE(is_map_file_path("map.sarmap.tmp"));
+}
+
 TEST_F(MapFileTest, RoundTripIsExact) {
   for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
     const MetricMap map = room_map(fusion);

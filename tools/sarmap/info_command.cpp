@@ -1,6 +1,8 @@
 // `sarmap info FILE|FOLDER`: what a point cloud or a scan sequence holds —
 // points, bounds, fields, classes; for a sequence also its layout, sensor and
 // pose range. Sequences are read frame by frame, so any size fits in memory.
+// A metric map (map.sarmap): resolution, blocks, voxels by state, occupied
+// voxels by class and the extent of what is known and occupied.
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +16,8 @@
 #include "engine/core/error.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/scan_source.hpp"
+#include "engine/metric/map_file.hpp"
+#include "engine/metric/map_summary.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
@@ -77,6 +81,37 @@ void print_classes(const ClassCounts& counts) {
 
 std::string_view format_name(PointCloudFormat f) { return f == PointCloudFormat::Ply ? "ply" : "pcd"; }
 
+void map_info(const InfoArgs& a) {
+  const metric::MetricMap map = metric::load_map(a.path);
+  const metric::MapSummary s = metric::summarize_map(map);
+  const std::string_view fusion = metric::to_string(map.settings().fusion.fusion);
+  if (a.json) {
+    Json j;
+    j["path"] = a.path;
+    j["kind"] = "metric_map";
+    j["format"] = "sarmap";
+    j["version"] = metric::kMapFileVersion;
+    j["resolution"] = map.resolution();
+    j["class_fusion"] = fusion;
+    j["blocks"] = s.counts.blocks;
+    j["voxels"] = Json{{"known", s.counts.known}, {"free", s.counts.free}, {"occupied", s.counts.occupied}};
+    j["occupied_classes"] = classes_json(s.occupied_by_class);
+    j["bounds"] = Json{{"known", bounds_json(s.known_bounds)}, {"occupied", bounds_json(s.occupied_bounds)}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return;
+  }
+  std::printf("file: %s\n", a.path.c_str());
+  std::printf("format: sarmap metric map (version %u)\n", metric::kMapFileVersion);
+  std::printf("resolution: %g m\n", map.resolution());
+  std::printf("class fusion: %s\n", std::string(fusion).c_str());
+  std::printf("blocks: %zu (8 x 8 x 8 voxels each)\n", s.counts.blocks);
+  std::printf("voxels: %zu known: %zu free, %zu occupied\n", s.counts.known, s.counts.free, s.counts.occupied);
+  std::printf("occupied ");
+  print_classes(s.occupied_by_class);
+  print_bounds("known bounds", s.known_bounds);
+  print_bounds("occupied bounds", s.occupied_bounds);
+}
+
 void cloud_info(const InfoArgs& a) {
   PointCloudFileInfo info;
   const PointBuffer points = read_point_cloud(a.path, &info, a.sequence.options().limits);
@@ -93,6 +128,7 @@ void cloud_info(const InfoArgs& a) {
     j["points_in_file"] = info.points_in_file;
     j["dropped_non_finite"] = info.dropped_non_finite;
     j["fields"] = info.fields;
+    j["comments"] = info.comments;
     j["bounds"] = bounds_json(bounds);
     if (points.has_labels()) j["classes"] = classes_json(classes);
     std::printf("%s\n", j.dump(2).c_str());
@@ -108,6 +144,7 @@ void cloud_info(const InfoArgs& a) {
   std::printf("\nfields:");
   for (const auto& f : info.fields) std::printf(" %s", f.c_str());
   std::printf("\n");
+  for (const auto& c : info.comments) std::printf("comment: %s\n", c.c_str());
   print_bounds("bounds", bounds);
   if (points.has_labels()) print_classes(classes);
 }
@@ -212,8 +249,10 @@ void sequence_info(const InfoArgs& a) {
 
 void add_info_command(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
-  CLI::App* cmd = app.add_subcommand("info", "Describe a point cloud (.ply, .pcd) or a scan sequence folder");
-  cmd->add_option("path", args->path, "PLY / PCD file, or a sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
+  CLI::App* cmd = app.add_subcommand(
+      "info", "Describe a point cloud (.ply, .pcd), a metric map (map.sarmap) or a scan sequence folder");
+  cmd->add_option("path", args->path,
+                  "PLY / PCD file, a metric map (.sarmap), or a sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
       ->required();
   cmd->add_flag("--json", args->json, "Machine-readable output");
   add_sequence_input_options(cmd, args->sequence);
@@ -221,7 +260,11 @@ void add_info_command(CLI::App& app) {
   cmd->callback([args] {
     const std::filesystem::path path(args->path);
     if (std::filesystem::is_regular_file(path) && path.filename() != "sequence.json") {
-      cloud_info(*args);
+      if (metric::is_map_file_path(path)) {
+        map_info(*args);
+      } else {
+        cloud_info(*args);
+      }
     } else {
       sequence_info(*args);
     }
