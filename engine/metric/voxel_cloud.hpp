@@ -27,4 +27,10 @@ std::string voxel_size_comment(const MetricMap& map);
 // sarmap::Error for another extension or when the file cannot be written.
 void write_voxel_cloud(const MetricMap& map, const std::filesystem::path& path, bool binary = true);
 
+// Writes every occupied voxel as a cube: 8 vertices (in the class colour) and
+// 6 outward-facing quads per voxel, in the order of occupied_voxel_cloud(),
+// as a binary PLY mesh with voxel_size_comment() in the header, atomically.
+// Throws sarmap::Error (InvalidArgument) for a path that is not .ply.
+void write_voxel_cubes(const MetricMap& map, const std::filesystem::path& path);
+
 }  // namespace sarmap::metric

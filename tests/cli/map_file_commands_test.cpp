@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -15,8 +16,11 @@
 
 #include "engine/core/bounds.hpp"
 #include "engine/core/classes.hpp"
+#include "engine/io/point_cloud_file.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_export.hpp"
 #include "engine/metric/ray_integrator.hpp"
+#include "engine/metric/voxel_cloud.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
 #include "tests/metric/synthetic_room.hpp"
@@ -27,6 +31,8 @@ namespace {
 using test::quoted;
 using test::run_cli;
 using ::testing::HasSubstr;
+
+const std::string kTinyFrame = std::string(SARMAP_TEST_DATA_DIR) + "/sequences/tiny/frame_000000.ply";
 
 // Three frames of the synthetic room at 0.1 m: walls, floor, a box and a
 // platform, so several classes are occupied.
@@ -162,6 +168,129 @@ TEST(CliMapInfo, DamagedMapFilesAreRefusedNamingFileAndProblem) {
     EXPECT_THAT(r.err, HasSubstr(c.problem)) << c.file;
     EXPECT_EQ(r.out, "") << c.file;
   }
+}
+
+// convert writes what sarmap run writes: the same bytes as voxels.ply's
+// writer, read back by the project's readers as the map's occupied voxels
+// with class, palette colour, probability and the voxel size.
+TEST(CliMapConvert, PlyAndPcdHoldTheOccupiedVoxelsAsRunWritesThem) {
+  test::ScratchFolder dir;
+  const metric::MetricMap map = room_map();
+  metric::save_map(map, dir / "map.sarmap");
+  const std::string in = quoted((dir / "map.sarmap").string());
+  metric::write_voxel_cloud(map, dir / "direct.ply");
+  const std::size_t occupied = map.counts().occupied;
+  for (const std::string name : {"v.ply", "v.pcd", "ascii.ply", "ascii.pcd"}) {
+    const bool ascii = name.rfind("ascii", 0) == 0;
+    const auto r = run_cli("convert " + in + " " + quoted((dir / name).string()) + (ascii ? " --ascii" : ""),
+                           dir.path());
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_THAT(r.out, HasSubstr(std::to_string(occupied) + " occupied voxels")) << name;
+    PointCloudFileInfo info;
+    const PointBuffer cloud = read_point_cloud(dir / name, &info);
+    EXPECT_EQ(info.encoding.find("ascii") != std::string::npos, ascii) << name;
+    EXPECT_THAT(info.comments, ::testing::Contains("voxel_size 0.1")) << name;
+    ASSERT_EQ(cloud.size(), occupied) << name;
+    ASSERT_TRUE(cloud.has_labels() && cloud.has_colors()) << name;
+    const std::size_t probability = cloud.find_score("probability");
+    ASSERT_LT(probability, cloud.score_count()) << name;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const Eigen::Vector3d p(cloud.x()[i], cloud.y()[i], cloud.z()[i]);
+      ASSERT_EQ(map.state_at(p), metric::VoxelState::Occupied) << name << " point " << i;
+      const ClassId id = map.class_at(p);
+      EXPECT_EQ(cloud.labels()[i], static_cast<std::uint8_t>(id)) << name << " point " << i;
+      EXPECT_EQ(cloud.red()[i], class_info(id).color.r) << name << " point " << i;
+      EXPECT_EQ(cloud.blue()[i], class_info(id).color.b) << name << " point " << i;
+      EXPECT_NEAR(cloud.score(probability)[i], map.probability_at(p), 1e-6) << name << " point " << i;
+    }
+  }
+  EXPECT_EQ(bytes_of(dir / "v.ply"), bytes_of(dir / "direct.ply"));
+  // info shows the voxel size a cloud's header carries.
+  const auto info = run_cli("info " + quoted((dir / "v.ply").string()), dir.path());
+  EXPECT_THAT(info.out, HasSubstr("comment: voxel_size 0.1\n"));
+}
+
+TEST(CliMapConvert, BtIsTheOctomapExportOfTheMap) {
+  test::ScratchFolder dir;
+  const metric::MetricMap map = room_map();
+  metric::save_map(map, dir / "map.sarmap");
+  const auto r = run_cli("convert --quiet " + quoted((dir / "map.sarmap").string()) + " " +
+                             quoted((dir / "map.bt").string()),
+                         dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  const std::string bt = bytes_of(dir / "map.bt");
+  EXPECT_EQ(bt.rfind("# Octomap OcTree binary file", 0), 0u);
+  EXPECT_THAT(bt, HasSubstr("\nres 0.1"));
+  // The writer tests/metric/octomap_export_test.cpp loads with liboctomap, byte for byte.
+  EXPECT_EQ(bt, metric::octomap_binary(map));
+}
+
+TEST(CliMapConvert, VoxelCubesWriteEightCornersAndSixFacesPerVoxel) {
+  test::ScratchFolder dir;
+  const metric::MetricMap map = room_map();
+  metric::save_map(map, dir / "map.sarmap");
+  const auto r = run_cli("convert --voxel-cubes " + quoted((dir / "map.sarmap").string()) + " " +
+                             quoted((dir / "cubes.ply").string()),
+                         dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t occupied = map.counts().occupied;
+  EXPECT_THAT(r.out, HasSubstr(std::to_string(occupied) + " occupied voxels as cubes"));
+  PointCloudFileInfo info;
+  const PointBuffer corners = read_point_cloud(dir / "cubes.ply", &info);
+  EXPECT_EQ(corners.size(), 8 * occupied);
+  EXPECT_THAT(info.comments, ::testing::Contains("voxel_size 0.1"));
+  EXPECT_THAT(bytes_of(dir / "cubes.ply"), HasSubstr("element face " + std::to_string(6 * occupied) + "\n"));
+  // Every corner lies on a voxel corner of the 0.1 m grid.
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    for (const float v : {corners.x()[i], corners.y()[i], corners.z()[i]}) {
+      EXPECT_NEAR(v * 10.0f, std::round(v * 10.0f), 1e-3) << i;
+    }
+  }
+}
+
+TEST(CliMapConvert, RefusesWhatAMapCannotBecome) {
+  test::ScratchFolder dir;
+  metric::save_map(room_map(), dir / "map.sarmap");
+  const std::string in = quoted((dir / "map.sarmap").string());
+  const struct {
+    std::string args;
+    const char* says;
+  } cases[] = {
+      {"convert " + in + " " + quoted((dir / "out.xyz").string()), "converts to a .ply or .pcd cloud or an OctoMap .bt"},
+      {"convert --voxel-cubes " + in + " " + quoted((dir / "out.pcd").string()), "--voxel-cubes writes a .ply mesh"},
+      {"convert --ascii " + in + " " + quoted((dir / "out.bt").string()), "--ascii applies to .ply / .pcd clouds"},
+      {"convert --voxel 0.2 " + in + " " + quoted((dir / "out.ply").string()), "--voxel thins point clouds"},
+      {"convert --voxel-cubes " + quoted(kTinyFrame) + " " + quoted((dir / "out.ply").string()),
+       "--voxel-cubes needs a metric map"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_cli(c.args, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << c.args;
+    EXPECT_EQ(r.err.rfind("sarmap: error: ", 0), 0u) << r.err;
+    EXPECT_THAT(r.err, HasSubstr(c.says)) << c.args;
+  }
+  for (const char* name : {"out.xyz", "out.pcd", "out.bt", "out.ply"}) EXPECT_FALSE(std::filesystem::exists(dir / name));
+}
+
+TEST(CliMapConvert, ADamagedMapIsRefusedAndNothingWritten) {
+  test::ScratchFolder dir;
+  metric::save_map(room_map(), dir / "map.sarmap");
+  const std::string bytes = bytes_of(dir / "map.sarmap");
+  write_bytes(dir / "cut.sarmap", bytes.substr(0, bytes.size() - 100));
+  const std::string path = (dir / "cut.sarmap").string();
+  for (const char* out : {"v.ply", "map.bt"}) {
+    const auto r = run_cli("convert " + quoted(path) + " " + quoted((dir / out).string()), dir.path());
+    EXPECT_EQ(r.exit_code, 1) << out;
+    EXPECT_THAT(r.err, HasSubstr(path)) << out;
+    EXPECT_THAT(r.err, HasSubstr("(truncated)")) << out;
+    EXPECT_FALSE(std::filesystem::exists(dir / out)) << out;
+  }
+  const auto missing = run_cli("convert " + quoted((dir / "none.sarmap").string()) + " " +
+                                   quoted((dir / "v.ply").string()),
+                               dir.path());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_THAT(missing.err, HasSubstr((dir / "none.sarmap").string() + ": no such file"));
 }
 
 }  // namespace

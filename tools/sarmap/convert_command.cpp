@@ -1,7 +1,9 @@
 // `sarmap convert IN OUT`: PLY <-> PCD (binary, or --ascii), and a scan
 // sequence into one merged cloud (every frame in the world frame, appended)
 // or into a sarmap sequence folder. --voxel SIZE keeps only the first point
-// that falls in each cube of that size, to thin merged clouds.
+// that falls in each cube of that size, to thin merged clouds. A metric map
+// (map.sarmap) converts to its occupied voxels as a cloud (.ply / .pcd, as
+// voxels.ply), as cubes (--voxel-cubes, .ply) or to an OctoMap tree (.bt).
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -10,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_set>
 #include <vector>
 
@@ -17,6 +20,9 @@
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/io/sequence_writer.hpp"
+#include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_export.hpp"
+#include "engine/metric/voxel_cloud.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/progress.hpp"
@@ -30,6 +36,7 @@ struct ConvertArgs {
   std::string out;
   bool ascii = false;
   double voxel = 0.0;
+  bool voxel_cubes = false;
   bool quiet = false;
   SequenceInputArgs sequence;
 };
@@ -74,10 +81,46 @@ class VoxelThinning {
   std::unordered_set<std::uint64_t> occupied_;
 };
 
-bool is_cloud_path(const std::filesystem::path& path) {
+bool has_extension(const std::filesystem::path& path, std::string_view wanted) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".ply" || ext == ".pcd";
+  return ext == wanted;
+}
+
+bool is_cloud_path(const std::filesystem::path& path) {
+  return has_extension(path, ".ply") || has_extension(path, ".pcd");
+}
+
+// The occupied voxels of a map.sarmap, written by the same code as sarmap
+// run's voxels.ply and map.bt.
+void convert_map(const ConvertArgs& a) {
+  const std::filesystem::path out(a.out);
+  const bool bt = has_extension(out, ".bt");
+  if (a.voxel > 0) {
+    throw Error(ErrorCode::InvalidArgument,
+                "convert: --voxel thins point clouds; a metric map's voxels are its own (see sarmap run --voxel)");
+  }
+  if (a.voxel_cubes ? !has_extension(out, ".ply") : !(bt || is_cloud_path(out))) {
+    throw Error(ErrorCode::InvalidArgument,
+                "convert: " + a.out +
+                    (a.voxel_cubes ? ": --voxel-cubes writes a .ply mesh"
+                                   : ": a metric map converts to a .ply or .pcd cloud or an OctoMap .bt file"));
+  }
+  if (a.ascii && (bt || a.voxel_cubes)) {
+    throw Error(ErrorCode::InvalidArgument, "convert: --ascii applies to .ply / .pcd clouds only");
+  }
+  const metric::MetricMap map = metric::load_map(a.in);
+  const metric::MapCounts counts = map.counts();
+  if (bt) {
+    metric::write_octomap_bt(map, out);
+    if (!a.quiet) std::printf("%s: OctoMap tree of %zu known voxels\n", a.out.c_str(), counts.known);
+  } else if (a.voxel_cubes) {
+    metric::write_voxel_cubes(map, out);
+    if (!a.quiet) std::printf("%s: %zu occupied voxels as cubes\n", a.out.c_str(), counts.occupied);
+  } else {
+    metric::write_voxel_cloud(map, out, !a.ascii);
+    if (!a.quiet) std::printf("%s: %zu occupied voxels\n", a.out.c_str(), counts.occupied);
+  }
 }
 
 void run_convert(const ConvertArgs& a) {
@@ -90,6 +133,13 @@ void run_convert(const ConvertArgs& a) {
   if (a.voxel > 0) thinning.emplace(a.voxel);
   const std::filesystem::path in(a.in), out(a.out);
 
+  if (metric::is_map_file_path(in) && !std::filesystem::is_directory(in)) {
+    convert_map(a);
+    return;
+  }
+  if (a.voxel_cubes) {
+    throw Error(ErrorCode::InvalidArgument, "convert: --voxel-cubes needs a metric map (.sarmap) as input");
+  }
   if (std::filesystem::is_regular_file(in) && in.filename() != "sequence.json") {
     if (!is_cloud_path(out)) {
       throw Error(ErrorCode::InvalidArgument,
@@ -143,14 +193,19 @@ void add_convert_command(CLI::App& app) {
   auto args = std::make_shared<ConvertArgs>();
   CLI::App* cmd = app.add_subcommand(
       "convert",
-      "Convert PLY <-> PCD, or a scan sequence into one merged cloud (OUT.ply / OUT.pcd) or a sarmap "
-      "sequence folder (OUT without extension)");
-  cmd->add_option("in", args->in, "PLY / PCD file or sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
+      "Convert PLY <-> PCD, a scan sequence into one merged cloud (OUT.ply / OUT.pcd) or a sarmap "
+      "sequence folder (OUT without extension), or a metric map (map.sarmap) into its occupied voxels "
+      "(OUT.ply / OUT.pcd, cubes with --voxel-cubes) or an OctoMap tree (OUT.bt)");
+  cmd->add_option("in", args->in,
+                  "PLY / PCD file, sequence folder (sarmap, TUM RGB-D, 7-Scenes) or metric map (.sarmap)")
       ->required();
-  cmd->add_option("out", args->out, "Output .ply / .pcd file, or a folder for a sarmap sequence")->required();
+  cmd->add_option("out", args->out, "Output .ply / .pcd file, .bt (from a map), or a folder for a sarmap sequence")
+      ->required();
   cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
   cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)")
       ->check(finite_positive());
+  cmd->add_flag("--voxel-cubes", args->voxel_cubes,
+                "From a metric map: each occupied voxel as a cube mesh (8 vertices, 6 faces, class colour) in OUT.ply");
   add_sequence_input_options(cmd, args->sequence);
   cmd->add_flag("--quiet", args->quiet, "No progress line or summary");
   cmd->callback([args] { run_convert(*args); });

@@ -259,12 +259,10 @@ void add_info_command(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "No progress line");
   cmd->callback([args] {
     const std::filesystem::path path(args->path);
-    if (std::filesystem::is_regular_file(path) && path.filename() != "sequence.json") {
-      if (metric::is_map_file_path(path)) {
-        map_info(*args);
-      } else {
-        cloud_info(*args);
-      }
+    if (metric::is_map_file_path(path) && !std::filesystem::is_directory(path)) {
+      map_info(*args);
+    } else if (std::filesystem::is_regular_file(path) && path.filename() != "sequence.json") {
+      cloud_info(*args);
     } else {
       sequence_info(*args);
     }
