@@ -176,7 +176,7 @@ class JsonWriter {
 
 class JsonReader {
  public:
-  JsonReader(const Json& root, std::string source) : source_(std::move(source)) { levels_.push_back({&root, ""}); }
+  JsonReader(const Json& root, std::string source) : source_(std::move(source)) { levels_.push_back({&root, "", {}}); }
 
   template <class T>
   void field(const char* key, T& value) {
@@ -188,7 +188,7 @@ class JsonReader {
     const Json* j = take(key);
     if (j == nullptr) return;  // the whole group at its defaults
     if (!j->is_object()) fail(dotted(key), "must be an object, got " + j->dump());
-    levels_.push_back({j, dotted(key) + "."});
+    levels_.push_back({j, dotted(key) + ".", {}});
     body();
     refuse_unknown_keys();
     levels_.pop_back();
@@ -307,7 +307,7 @@ MapperConfig config_from_json(const Json& json, const MapperConfig& base, const 
   return config;
 }
 
-MapperConfig read_config_file(const fs::path& path) {
+MapperConfig read_config_file(const fs::path& path, const MapperConfig& base) {
   const Json file = json_fields::read_file(path);
   const bool manifest = file.is_object() && file.contains("config");
   if (!manifest && file.is_object() && file.contains("outputs")) {
@@ -315,7 +315,7 @@ MapperConfig read_config_file(const fs::path& path) {
                                             ": a manifest without a \"config\" member (written by an older "
                                             "sarmap): give a config file instead");
   }
-  MapperConfig config = config_from_json(manifest ? file.at("config") : file, {}, path.string());
+  MapperConfig config = config_from_json(manifest ? file.at("config") : file, base, path.string());
   if (!config.classifier.model.empty() && config.classifier.model.is_relative()) {
     config.classifier.model = path.parent_path() / config.classifier.model;
   }

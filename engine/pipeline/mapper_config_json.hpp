@@ -29,10 +29,11 @@ nlohmann::ordered_json config_to_json(const MapperConfig& config);
 MapperConfig config_from_json(const nlohmann::ordered_json& json, const MapperConfig& base = {},
                               const std::string& source = "config");
 
-// A config file, or a run's manifest.json (its "config" member), over the
-// defaults. A relative model path is taken from the file's folder. Throws
-// sarmap::Error: Io when unreadable, Parse when not JSON, InvalidData as above
-// (and for a manifest without a "config" member).
-MapperConfig read_config_file(const std::filesystem::path& path);
+// A config file, or a run's manifest.json (its "config" member), over `base`
+// (the keys the file leaves out keep its values). A relative model path is
+// taken from the file's folder. Throws sarmap::Error: Io when unreadable,
+// Parse when not JSON, InvalidData as above (and for a manifest without a
+// "config" member).
+MapperConfig read_config_file(const std::filesystem::path& path, const MapperConfig& base = {});
 
 }  // namespace sarmap::pipeline

@@ -21,10 +21,20 @@
 
 namespace sarmap::pipeline {
 
+// The network's settings in the pipeline: blocks of at least 100 points, not
+// the network's own 500 (DgcnnClassifierSettings, `sarmap classify`): one
+// depth frame leaves many blocks at its edges with a few hundred points, and
+// the network labels them well (the held-out figures: docs/perf-history.md).
+inline DgcnnClassifierSettings pipeline_dgcnn_settings() {
+  DgcnnClassifierSettings settings;
+  settings.min_points = 100;
+  return settings;
+}
+
 struct ClassifierConfig {
   std::string kind = "dgcnn";  // dgcnn | geometric | labels
   std::filesystem::path model;  // dgcnn only; required for it
-  DgcnnClassifierSettings dgcnn;
+  DgcnnClassifierSettings dgcnn = pipeline_dgcnn_settings();
   // dgcnn, after the network and its veto: patches labelled other (with
   // wall) longer than a box become wall, then wall and other labels under a
   // ramp deck seen in this scan or an earlier one become inclined ramp, then

@@ -57,7 +57,7 @@ TEST(MapperConfigJson, DefaultsRoundTripWithTheVersionFirst) {
   EXPECT_EQ(written.begin().key(), "version");
   EXPECT_EQ(written.at("version"), kConfigVersion);
   EXPECT_EQ(written.at("voxel"), 0.05);
-  EXPECT_EQ(written.at("classifier").at("dgcnn").at("min_points"), 500u);
+  EXPECT_EQ(written.at("classifier").at("dgcnn").at("min_points"), 100u);  // as sarmap run's
   EXPECT_EQ(written.at("segments").at("voxel"), 0.025);
   EXPECT_EQ(written.at("map").at("fusion").at("fusion"), "bayesian");
   // Every setting of every stage, plus the version: a setting added to a
