@@ -27,6 +27,7 @@
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/checkpoint.hpp"
 #include "engine/pipeline/mapper.hpp"
+#include "engine/pipeline/mapper_config_json.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/ros_map_files.hpp"
@@ -90,14 +91,15 @@ nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper&
   return settings;
 }
 
-// What a checkpoint must match to be continued: the settings (the thread
-// count aside: the maps do not depend on it), the input's layout, frame count
-// and defining file, and the model's bytes.
+// What a checkpoint must match to be continued: the settings and the whole
+// config (the thread count aside: the maps do not depend on it), the input's
+// layout, frame count and defining file, and the model's bytes.
 std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper, const ScanSource& source,
                             const nlohmann::ordered_json& input) {
   nlohmann::ordered_json what;
   what["settings"] = run_settings(o, mapper);
   what["settings"].erase("threads");
+  what["config"] = pipeline::config_to_json(mapper.config());
   what["input_sha256"] = input["sha256"];
   what["layout"] = source.layout();
   what["frames"] = source.size();
@@ -105,7 +107,46 @@ std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper,
   return sha256_hex(what.dump());
 }
 
+// The settings `sarmap run` has flags for, over `config`.
+pipeline::MapperConfig apply_run_options(const RunOptions& o, pipeline::MapperConfig config) {
+  config.voxel = o.voxel;
+  config.max_range = o.max_range;
+  config.max_point_distance = o.max_point_distance;
+  config.bounds.keep_radius = o.keep_radius;
+  config.bounds.max_blocks = o.max_blocks;
+  config.classifier.kind = o.classifier;
+  if (!o.model.empty()) config.classifier.model = o.model;
+  config.classifier.dgcnn.min_points = o.min_block_points;
+  config.classifier.dgcnn.stride = o.block_stride;
+  config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
+  config.classifier.wall_bands.enabled = o.wall_bands;
+  config.classifier.ramp_sides.enabled = o.ramp_sides;
+  config.classifier.wall_feet.enabled = o.wall_feet;
+  return config;
+}
+
 }  // namespace
+
+void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>& given) {
+  const RunOptions defaults;
+  pipeline::MapperConfig base = apply_run_options(defaults, {});
+  base.semantic_points_voxel = defaults.voxel;
+  pipeline::MapperConfig c = pipeline::read_config_file(o.config_file, base);
+  if (!given("--voxel")) o.voxel = c.voxel;
+  if (!given("--max-range")) o.max_range = c.max_range;
+  if (!given("--max-point-distance")) o.max_point_distance = c.max_point_distance;
+  if (!given("--keep-radius")) o.keep_radius = c.bounds.keep_radius;
+  if (!given("--max-blocks")) o.max_blocks = c.bounds.max_blocks;
+  if (!given("--classifier")) o.classifier = c.classifier.kind;
+  if (!given("--model")) o.model = c.classifier.model;
+  if (!given("--min-block-points")) o.min_block_points = c.classifier.dgcnn.min_points;
+  if (!given("--block-stride")) o.block_stride = c.classifier.dgcnn.stride;
+  if (!given("--no-ramp-veto")) o.ramp_veto = c.classifier.dgcnn.ramp_veto.enabled;
+  if (!given("--no-wall-bands")) o.wall_bands = c.classifier.wall_bands.enabled;
+  if (!given("--no-ramp-sides")) o.ramp_sides = c.classifier.ramp_sides.enabled;
+  if (!given("--no-wall-feet")) o.wall_feet = c.classifier.wall_feet.enabled;
+  o.base_config = c;
+}
 
 std::size_t default_max_blocks() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGE_SIZE);
@@ -129,28 +170,17 @@ RunSummary run_pipeline(const RunOptions& o) {
   }
   const auto wall_start = std::chrono::steady_clock::now();
   std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
-  pipeline::MapperConfig config;
-  config.voxel = o.voxel;
-  config.max_range = o.max_range;
-  config.max_point_distance = o.max_point_distance;
-  config.bounds.keep_radius = o.keep_radius;
-  config.bounds.max_blocks = o.max_blocks;
-  config.classifier.kind = o.classifier;
-  config.classifier.dgcnn.min_points = o.min_block_points;
-  config.classifier.dgcnn.stride = o.block_stride;
-  config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
-  config.classifier.wall_bands.enabled = o.wall_bands;
-  config.classifier.ramp_sides.enabled = o.ramp_sides;
-  config.classifier.wall_feet.enabled = o.wall_feet;
+  pipeline::MapperConfig config = apply_run_options(o, o.base_config.value_or(pipeline::MapperConfig{}));
+  // Without a config file the kept points share the map's voxel.
+  if (!o.base_config) config.semantic_points_voxel = o.voxel;
   if (o.classifier == "dgcnn") {
-    config.classifier.model = o.model.empty() ? shipped_ramp_model() : o.model;
+    if (config.classifier.model.empty()) config.classifier.model = shipped_ramp_model();
     if (!fs::exists(config.classifier.model)) {
       throw Error(ErrorCode::Io, "run: model file " + config.classifier.model.string() +
                                      " not found (give --model M.safetensors, or --classifier geometric for "
                                      "the baseline that needs no model)");
     }
   }
-  config.semantic_points_voxel = o.voxel;
   pipeline::Mapper mapper(config, source->sensor());
   // Before the mapping: a folder that cannot take the outputs fails now, and
   // the old run's manifest goes, so the folder reads as unfinished until the
@@ -258,6 +288,8 @@ RunSummary run_pipeline(const RunOptions& o) {
   manifest["scans"] = scans;
   manifest["scans_skipped"] = skipped.count();
   manifest["settings"] = run_settings(o, mapper);
+  // Every setting of the Mapper, for `sarmap run --config OUT/manifest.json`.
+  manifest["config"] = pipeline::config_to_json(mapper.config());
   // The commit record, written last (engine/io/run_folder.hpp).
   folder.commit(manifest, {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json",
                            "segments.ply", "graph.json", "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml",
@@ -298,6 +330,10 @@ void add_run_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("run", "Build the maps from a scan sequence");
   cmd->add_option("INPUT", o->input, "Sequence folder (sarmap, TUM, 7-Scenes) or a PLY/PCD file")->required();
   cmd->add_option("--out", o->out, "Output folder")->required();
+  cmd->add_option("--config", o->config_file,
+                  "A config file (docs/formats.md, run config) or a run's manifest.json, whose \"config\" "
+                  "reproduces that run; the other flags given override it")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--voxel", o->voxel, "Metric map voxel size in metres")
       ->capture_default_str()
       ->check(finite_positive());
@@ -363,7 +399,12 @@ void add_run_command(CLI::App& app) {
                 "Continue from OUT/.checkpoint/ (the same settings and input are required; without a checkpoint "
                 "the run starts from the first frame)");
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
-  cmd->callback([o] { run_pipeline(*o); });
+  cmd->callback([o, cmd] {
+    if (!o->config_file.empty()) {
+      load_config_file(*o, [cmd](const char* flag) { return cmd->count(flag) > 0; });
+    }
+    run_pipeline(*o);
+  });
 }
 
 }  // namespace sarmap::cli

@@ -3,10 +3,13 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
+#include "engine/pipeline/mapper.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
 
 namespace sarmap::cli {
@@ -22,10 +25,9 @@ struct RunOptions {
   double voxel = 0.05;
   std::string classifier = "dgcnn";  // dgcnn | geometric | labels
   std::filesystem::path model;        // dgcnn; empty: the shipped ramp model
-  // dgcnn: sparser blocks are left unknown. Lower than `sarmap classify`'s 500:
-  // one depth frame leaves many blocks at its edges with a few hundred points,
-  // and the network labels them well (the held-out figures: docs/perf-history.md).
-  std::size_t min_block_points = 100;
+  // dgcnn: sparser blocks are left unknown (pipeline_dgcnn_settings says why
+  // it is lower than `sarmap classify`'s).
+  std::size_t min_block_points = pipeline::pipeline_dgcnn_settings().min_points;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = three quarters of the model's block size
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
   bool wall_bands = true;     // patches labelled other (with wall) 0.8 m or longer become wall
@@ -44,7 +46,18 @@ struct RunOptions {
   // settings and input (from the first frame when there is none).
   bool resume = false;
   bool quiet = false;
+  // Every Mapper setting without a field above (segments, topo, occupancy,
+  // ...), from `--config`; the fields above are applied over it.
+  std::optional<pipeline::MapperConfig> base_config;
+  // `--config`: a config file or a run's manifest.json (load_config_file).
+  std::filesystem::path config_file;
 };
+
+// Reads o.config_file into o.base_config and takes the fields of `o` from it
+// whose flags `given` says the command line did not give (so the flags
+// override the file). Keys the file leaves out take `sarmap run`'s own
+// defaults. Throws sarmap::Error naming the file and key.
+void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>& given);
 
 struct RunSummary {
   std::size_t scans = 0;
