@@ -8,6 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/scan.hpp"
+#include "engine/io/run_folder.hpp"
+#include "engine/io/scan_source.hpp"
+#include "engine/pipeline/mapper.hpp"
+#include "engine/pipeline/mapper_config_json.hpp"
+#include "engine/pipeline/run_outputs.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
 
@@ -73,6 +79,41 @@ TEST_F(RunConfig, TheManifestsConfigReproducesTheRun) {
   }
   // The run had something to reproduce.
   EXPECT_FALSE(json_of(dir() / "plain" / "segments.json").at("segments").empty());
+}
+
+// The library's run API (a Mapper from the manifest's config, write_run)
+// writes what the CLI wrote, byte for byte (the profile's timings aside).
+TEST_F(RunConfig, TheLibrarysRunApiWritesWhatTheCliWrote) {
+  const fs::path manifest_file = dir() / "plain" / "manifest.json";
+  const pipeline::MapperConfig config = pipeline::read_config_file(manifest_file);
+  const std::unique_ptr<ScanSource> source = open_scan_sequence(seq());
+  pipeline::Mapper mapper(config, source->sensor());
+  Scan scan;
+  std::size_t scans = 0;
+  while (source->next(scan)) {
+    mapper.integrate(scan);
+    ++scans;
+  }
+  pipeline::RunRecord record;
+  record.input = pipeline::input_record(seq());
+  record.layout = source->layout();
+  record.arena_sha256 = source->arena_sha256();
+  record.scans = scans;
+  {
+    RunFolderWriter folder(dir() / "library");
+    pipeline::write_run(mapper, folder, record);
+  }
+  const nlohmann::json cli = json_of(manifest_file);
+  const nlohmann::json library = json_of(dir() / "library" / "manifest.json");
+  EXPECT_EQ(library.at("config"), cli.at("config"));
+  EXPECT_EQ(library.at("input"), cli.at("input"));
+  EXPECT_EQ(library.at("arena_sha256"), cli.at("arena_sha256"));
+  EXPECT_EQ(library.at("scans"), cli.at("scans"));
+  for (const std::string& name : pipeline::run_output_names()) {
+    if (name != "profile.json") {
+      EXPECT_EQ(output_hash(library, name), output_hash(cli, name)) << name;
+    }
+  }
 }
 
 TEST_F(RunConfig, FlagsGivenOverrideTheFile) {

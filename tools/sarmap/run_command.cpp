@@ -1,7 +1,7 @@
 // `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
-// builds the maps scan by scan through the pipeline's Mapper and writes every output (map.sarmap, map.bt,
-// voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*, manifest.json, profile.json; docs/formats.md),
-// each atomically.
+// builds the maps scan by scan through the pipeline's Mapper and writes every output through
+// pipeline::write_run (map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*,
+// profile.json, then manifest.json; docs/formats.md), each atomically.
 #include <unistd.h>
 
 #include <chrono>
@@ -14,23 +14,15 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
-#include "engine/core/class_colors.hpp"
 #include "engine/core/error.hpp"
-#include "engine/core/version.hpp"
-#include "engine/io/atomic_file.hpp"
-#include "engine/io/point_cloud_file.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
 #include "engine/io/scan_source.hpp"
-#include "engine/metric/map_file.hpp"
-#include "engine/metric/octomap_export.hpp"
-#include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/checkpoint.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
-#include "engine/segments/segment_files.hpp"
-#include "engine/topo/graph_files.hpp"
-#include "engine/topo/ros_map_files.hpp"
+#include "engine/pipeline/run_outputs.hpp"
+#include "engine/topo/topo_map.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/off_switch.hpp"
@@ -44,17 +36,6 @@ namespace sarmap::cli {
 namespace fs = std::filesystem;
 
 namespace {
-
-// What manifest.json says of the input: its path and the SHA-256 of the file
-// that defines it (a single cloud, or a sarmap sequence's sequence.json).
-nlohmann::ordered_json input_record(const fs::path& input) {
-  nlohmann::ordered_json record;
-  record["path"] = fs::absolute(input).string();
-  const fs::path defining = fs::is_directory(input) ? input / "sequence.json" : input;
-  record["sha256"] = fs::is_regular_file(defining) ? nlohmann::ordered_json(digest_file(defining).sha256)
-                                                   : nlohmann::ordered_json(nullptr);
-  return record;
-}
 
 // The CLI's validators refuse these already; RunOptions built in code (demo,
 // tests) are checked the same way. !(x >= 0) so that NaN fails too.
@@ -187,7 +168,7 @@ RunSummary run_pipeline(const RunOptions& o) {
   // new manifest is written last.
   RunFolderWriter folder(o.out);
 
-  const nlohmann::ordered_json input = input_record(o.input);
+  const nlohmann::ordered_json input = pipeline::input_record(o.input);
   const std::string fingerprint = run_fingerprint(o, mapper, *source, input);
   const fs::path checkpoint_folder = o.out / ".checkpoint";
   const fs::path checkpoint = checkpoint_folder / "state.bin";
@@ -254,49 +235,20 @@ RunSummary run_pipeline(const RunOptions& o) {
                                             " scans could be used; the first: " + skipped.first_error());
   }
 
-  const metric::MetricMap& map = mapper.metric_map();
-  metric::save_map(map, folder.path_of("map.sarmap"));
-  metric::write_octomap_bt(map, folder.path_of("map.bt"));
-  metric::write_voxel_cloud(map, folder.path_of("voxels.ply"));
-  {
-    PointBuffer semantic = mapper.semantic_points();  // a copy: the colours are for the file only
-    paint_class_colors(semantic);
-    write_point_cloud(folder.path_of("semantic_points.ply"), semantic);
-  }
-  segments::write_segments_json(folder.path_of("segments.json"), mapper.segment_map());
-  segments::write_segments_ply(folder.path_of("segments.ply"), mapper.segment_map());
-  const topo::TopoMap& topo = mapper.topo_map();
-  topo::write_graph_json(folder.path_of("graph.json"), topo);
-  topo::write_graph_graphml(folder.path_of("graph.graphml"), topo);
-  topo::write_graph_ply(folder.path_of("graph.ply"), topo);
-  topo::write_ros_map(topo.grid().grid, o.out, "grid");
   mapper.profile().set_wall_seconds(elapsed());
-  {
-    AtomicFileWriter w(folder.path_of("profile.json"));
-    w.write(mapper.profile().json() + "\n");
-    w.commit();
-  }
-
-  nlohmann::ordered_json manifest;
-  manifest["version"] = kRunManifestVersion;
-  manifest["sarmap_version"] = kVersion;
-  manifest["input"] = input;
-  // Simulated input only: the arena the sequence was rendered from, which
-  // eval holds the --arena it is given to (engine/eval/run_evaluation.hpp).
-  if (const std::string arena = source->arena_sha256(); !arena.empty()) manifest["arena_sha256"] = arena;
-  manifest["layout"] = source->layout();
-  manifest["scans"] = scans;
-  manifest["scans_skipped"] = skipped.count();
-  manifest["settings"] = run_settings(o, mapper);
-  // Every setting of the Mapper, for `sarmap run --config OUT/manifest.json`.
-  manifest["config"] = pipeline::config_to_json(mapper.config());
-  // The commit record, written last (engine/io/run_folder.hpp).
-  folder.commit(manifest, {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json",
-                           "segments.ply", "graph.json", "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml",
-                           "profile.json"});
+  pipeline::RunRecord record;
+  record.input = input;
+  record.layout = source->layout();
+  record.arena_sha256 = source->arena_sha256();
+  record.scans = scans;
+  record.scans_skipped = skipped.count();
+  record.settings = run_settings(o, mapper);
+  pipeline::write_run(mapper, folder, record);
   // The outputs are whole: nothing is left to resume.
   std::error_code ignored;
   fs::remove_all(checkpoint_folder, ignored);
+  const metric::MetricMap& map = mapper.metric_map();
+  const topo::TopoMap& topo = mapper.topo_map();
   RunSummary summary;
   summary.scans = scans;
   summary.counts = map.counts();
