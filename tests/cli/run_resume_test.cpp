@@ -114,10 +114,13 @@ TEST_F(RunResume, CheckpointsChangeNothingAndAreRemovedAtTheEnd) {
   expect_same_outputs(reference, fresh);
 }
 
+// Snapshots ride along: a resumed run keeps those written before its
+// checkpoint and writes the rest, all equal to an uninterrupted run's.
 TEST_F(RunResume, KilledRunsResumeToTheUninterruptedOutputs) {
   const fs::path reference = scratch_ / "reference";
+  const std::string snapshots = "--snapshots 12,30";
   const auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(run_to_end(reference, ""), 0);
+  ASSERT_EQ(run_to_end(reference, snapshots), 0);
   const double run_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::mt19937 random(20261126);
@@ -129,15 +132,21 @@ TEST_F(RunResume, KilledRunsResumeToTheUninterruptedOutputs) {
     const fs::path out = scratch_ / ("trial" + std::to_string(trial));
     for (int kill = 0; kill < kKillsPerTrial; ++kill) {
       resumed_from_a_checkpoint += fs::exists(out / ".checkpoint" / "state.bin");
-      const pid_t pid = spawn(run_args(out, "--checkpoint-every 3 --resume"));
+      const pid_t pid = spawn(run_args(out, "--checkpoint-every 3 --resume " + snapshots));
       std::this_thread::sleep_for(std::chrono::duration<double>(moment(random)));
       ::kill(pid, SIGKILL);
       killed += wait_for(pid) == -SIGKILL;
       expect_whole_or_unfinished(out);
+      expect_whole_or_unfinished(out / "snap_0012");
+      expect_whole_or_unfinished(out / "snap_0030");
     }
-    ASSERT_EQ(run_to_end(out, "--checkpoint-every 3 --resume"), 0) << read_all(scratch_ / "child.log");
+    ASSERT_EQ(run_to_end(out, "--checkpoint-every 3 --resume " + snapshots), 0) << read_all(scratch_ / "child.log");
     verify_run_folder(out);
     expect_same_outputs(reference, out);
+    for (const char* snapshot : {"snap_0012", "snap_0030"}) {
+      verify_run_folder(out / snapshot);
+      expect_same_outputs(reference / snapshot, out / snapshot);
+    }
   }
   // The moments must have hit running processes, and some resumes started
   // from a checkpoint, or the test proved little.

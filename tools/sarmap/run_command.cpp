@@ -4,11 +4,13 @@
 // profile.json, then manifest.json; docs/formats.md), each atomically.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -106,6 +108,37 @@ pipeline::MapperConfig apply_run_options(const RunOptions& o, pipeline::MapperCo
   return config;
 }
 
+// OUT/snap_NNNN for a snapshot after `scans` scans.
+fs::path snapshot_folder(const fs::path& out, std::size_t scans) {
+  char name[32];
+  std::snprintf(name, sizeof name, "snap_%04zu", scans);
+  return out / name;
+}
+
+// The scan count a folder name "snap_NNNN" stands for, or nullopt.
+std::optional<std::size_t> snapshot_scans(const std::string& name) {
+  if (name.size() < 9 || name.rfind("snap_", 0) != 0 || name.size() > 25) return std::nullopt;
+  std::size_t scans = 0;
+  for (std::size_t i = 5; i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9') return std::nullopt;
+    scans = scans * 10 + static_cast<std::size_t>(name[i] - '0');
+  }
+  return scans;
+}
+
+// Snapshot folders of an earlier run that this one will not write again: all
+// of them, except on a resume those of the scans already mapped that this run
+// asks for too.
+void remove_stale_snapshots(const fs::path& out, const std::vector<std::size_t>& wanted, std::size_t scans_done) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(out)) {
+    const std::optional<std::size_t> scans = snapshot_scans(entry.path().filename().string());
+    if (!scans || !entry.is_directory() || entry.is_symlink()) continue;
+    const bool kept = *scans <= scans_done && std::binary_search(wanted.begin(), wanted.end(), *scans) &&
+                      snapshot_folder(out, *scans) == entry.path();
+    if (!kept) fs::remove_all(entry.path());
+  }
+}
+
 }  // namespace
 
 void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>& given) {
@@ -144,6 +177,12 @@ RunSummary run_pipeline(const RunOptions& o) {
   require_finite_non_negative(o.max_point_distance, "--max-point-distance");
   require_finite_non_negative(o.keep_radius, "--keep-radius");
   require_finite_non_negative(o.block_stride, "--block-stride");
+  std::vector<std::size_t> snapshots = o.snapshots;
+  std::sort(snapshots.begin(), snapshots.end());
+  snapshots.erase(std::unique(snapshots.begin(), snapshots.end()), snapshots.end());
+  if (!snapshots.empty() && snapshots.front() == 0) {
+    throw Error(ErrorCode::InvalidArgument, "run: --snapshots takes scan counts of 1 or more");
+  }
   std::unique_ptr<tbb::global_control> limit;
   if (o.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -194,6 +233,8 @@ RunSummary run_pipeline(const RunOptions& o) {
     fs::remove_all(checkpoint_folder);
   }
   if (o.checkpoint_every > 0) fs::create_directories(checkpoint_folder);
+  remove_stale_snapshots(o.out, snapshots, scans);
+  auto next_snapshot = std::upper_bound(snapshots.begin(), snapshots.end(), scans);
   const auto elapsed = [&] {
     return elapsed_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
@@ -203,6 +244,18 @@ RunSummary run_pipeline(const RunOptions& o) {
   // One unreadable frame or refused scan costs that scan, not the run: both
   // leave the maps as they were (ScanSource::next, Mapper::integrate).
   SkippedScans skipped(mapper.profile(), o.strict);
+  // Every output as the maps stand, into `into` (the run's folder or a snapshot's).
+  const auto write_outputs = [&](RunFolderWriter& into) {
+    mapper.profile().set_wall_seconds(elapsed());
+    pipeline::RunRecord record;
+    record.input = input;
+    record.layout = source->layout();
+    record.arena_sha256 = source->arena_sha256();
+    record.scans = scans;
+    record.scans_skipped = skipped.count();
+    record.settings = run_settings(o, mapper);
+    pipeline::write_run(mapper, into, record);
+  };
   // After every frame, read or not: the checkpoint holds the state between two frames.
   const auto frame_done = [&](std::size_t frame) {
     progress.update(frame + 1);
@@ -227,6 +280,11 @@ RunSummary run_pipeline(const RunOptions& o) {
     } catch (const Error& e) {
       skipped.add(frame, scan.source, e, /*row_open=*/true);
     }
+    if (next_snapshot != snapshots.end() && scans == *next_snapshot) {
+      RunFolderWriter snapshot(snapshot_folder(o.out, scans));
+      write_outputs(snapshot);
+      ++next_snapshot;
+    }
     frame_done(frame);
   }
   progress.finish();
@@ -235,15 +293,7 @@ RunSummary run_pipeline(const RunOptions& o) {
                                             " scans could be used; the first: " + skipped.first_error());
   }
 
-  mapper.profile().set_wall_seconds(elapsed());
-  pipeline::RunRecord record;
-  record.input = input;
-  record.layout = source->layout();
-  record.arena_sha256 = source->arena_sha256();
-  record.scans = scans;
-  record.scans_skipped = skipped.count();
-  record.settings = run_settings(o, mapper);
-  pipeline::write_run(mapper, folder, record);
+  write_outputs(folder);
   // The outputs are whole: nothing is left to resume.
   std::error_code ignored;
   fs::remove_all(checkpoint_folder, ignored);
@@ -254,6 +304,9 @@ RunSummary run_pipeline(const RunOptions& o) {
   summary.counts = map.counts();
   summary.stats = mapper.metric_stats();
   summary.wall_s = mapper.profile().wall_seconds();
+  if (next_snapshot != snapshots.end()) {
+    std::fprintf(stderr, "sarmap: warning: no snapshot after %zu scans: the run mapped %zu\n", *next_snapshot, scans);
+  }
   if (mapper.blocks_dropped() > 0) {
     std::fprintf(stderr, "sarmap: warning: %zu map blocks were forgotten to keep the map within %s\n",
                  mapper.blocks_dropped(),
@@ -350,6 +403,11 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("--resume", o->resume,
                 "Continue from OUT/.checkpoint/ (the same settings and input are required; without a checkpoint "
                 "the run starts from the first frame)");
+  cmd->add_option("--snapshots", o->snapshots,
+                  "Also write every output after these numbers of scans, into OUT/snap_NNNN/ (e.g. 40,80,120): "
+                  "the maps as they grew")
+      ->delimiter(',')
+      ->check(finite_non_negative());
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o, cmd] {
     if (!o->config_file.empty()) {

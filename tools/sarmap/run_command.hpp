@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
@@ -45,6 +46,9 @@ struct RunOptions {
   // Continue from OUT/.checkpoint/ when it holds a checkpoint of this run's
   // settings and input (from the first frame when there is none).
   bool resume = false;
+  // Also write the whole output set after each of these numbers of scans,
+  // into OUT/snap_NNNN/ (each a folder with its own manifest).
+  std::vector<std::size_t> snapshots;
   bool quiet = false;
   // Every Mapper setting without a field above (segments, topo, occupancy,
   // ...), from `--config`; the fields above are applied over it.
