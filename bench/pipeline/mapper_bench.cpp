@@ -1,0 +1,65 @@
+// The whole pipeline end to end, as `sarmap run` drives it but without file
+// I/O: a Mapper over the default arena's 160 simulated scans (320 x 240), with
+// each classifier, at 1 and 2 threads. Beside the wall time per scan it
+// reports each stage's mean and p95 from the Mapper's own profile, so one run
+// names the slowest stage.
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include <string>
+#include <vector>
+
+#include "bench/metric/sequence_fixture.hpp"
+#include "engine/pipeline/mapper.hpp"
+#include "engine/sim/simulator.hpp"
+
+namespace {
+
+using namespace sarmap;
+
+const char* const kClassifiers[] = {"labels", "geometric", "dgcnn"};
+
+pipeline::MapperConfig config_for(const std::string& classifier) {
+  pipeline::MapperConfig config;
+  config.classifier.kind = classifier;
+  if (classifier == "dgcnn") config.classifier.model = SARMAP_SOURCE_DIR "/datasets/models/ramps-dgcnn.safetensors";
+  return config;
+}
+
+void BM_MapperDefaultArena(benchmark::State& state) {
+  const std::vector<Scan>& scans = bench::default_arena_sequence(320);
+  const std::string classifier = kClassifiers[state.range(0)];
+  tbb::task_arena arena(static_cast<int>(state.range(1)));
+  const sim::Arena layout = sim::load_arena(SARMAP_SOURCE_DIR "/datasets/arenas/esogu-6x4.json");
+  const SensorInfo sensor = sim::sensor_info(layout.sensor);
+  StageProfile last;
+  for (auto _ : state) {
+    arena.execute([&] {
+      pipeline::Mapper mapper(config_for(classifier), sensor);
+      for (const Scan& scan : scans) {
+        Scan copy = scan;  // the Mapper filters a scan's points in place
+        mapper.integrate(copy);
+      }
+      last = mapper.profile();
+    });
+  }
+  state.SetLabel(classifier);
+  const double n = static_cast<double>(scans.size());
+  state.counters["scans_per_s"] =
+      benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate);
+  for (const std::string& stage : last.stage_names()) {
+    const StageProfile::StageStats s = last.stats(stage);
+    state.counters[stage + "_ms"] = s.mean_s * 1e3;
+    state.counters[stage + "_p95_ms"] = s.p95_s * 1e3;
+  }
+}
+BENCHMARK(BM_MapperDefaultArena)
+    ->ArgNames({"classifier", "threads"})
+    ->ArgsProduct({{0, 1, 2}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();
