@@ -21,7 +21,7 @@ const char* const kClassifiers[] = {"labels", "geometric", "dgcnn"};
 
 pipeline::MapperConfig config_for(const std::string& classifier) {
   pipeline::MapperConfig config;
-  config.classifier.kind = classifier;
+  config.classifier.kind = pipeline::classifier_kind_from_name(classifier);
   if (classifier == "dgcnn") config.classifier.model = SARMAP_SOURCE_DIR "/datasets/models/ramps-dgcnn.safetensors";
   return config;
 }

@@ -156,6 +156,8 @@ class JsonWriter {
       current_[key] = value.string();
     } else if constexpr (std::is_same_v<T, metric::ClassFusion>) {
       current_[key] = fusion_name(value);
+    } else if constexpr (std::is_same_v<T, ClassifierKind>) {
+      current_[key] = std::string(to_string(value));
     } else {
       current_[key] = value;
     }
@@ -266,6 +268,15 @@ class JsonReader {
       out.push_back(item.get<double>());
     }
     value = std::move(out);
+  }
+  void read(const Json& j, const std::string& key, ClassifierKind& value) const {
+    std::string name;
+    read(j, key, name);
+    try {
+      value = classifier_kind_from_name(name);
+    } catch (const Error&) {
+      fail(key, "must be \"dgcnn\", \"geometric\" or \"labels\", got " + j.dump());
+    }
   }
   void read(const Json& j, const std::string& key, metric::ClassFusion& value) const {
     std::string name;

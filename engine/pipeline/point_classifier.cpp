@@ -101,19 +101,37 @@ void PointClassifier::load_state(StateReader& in) {
   if (saved != name()) in.fail("the state is the " + saved + " classifier's, this run uses " + std::string(name()));
 }
 
-std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& config) {
-  if (config.kind == "labels") return std::make_unique<LabelsClassifier>();
-  if (config.kind == "geometric") return std::make_unique<GeometricPointClassifier>(config.geometric);
-  if (config.kind == "dgcnn") {
-    if (config.model.empty()) {
-      throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
-    }
-    return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands, config.ramp_sides,
-                                                  config.wall_feet);
+std::string_view to_string(ClassifierKind kind) {
+  switch (kind) {
+    case ClassifierKind::Dgcnn: return "dgcnn";
+    case ClassifierKind::Geometric: return "geometric";
+    case ClassifierKind::Labels: return "labels";
   }
-  throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + config.kind +
+  return "unknown";
+}
+
+ClassifierKind classifier_kind_from_name(std::string_view name) {
+  for (ClassifierKind kind : {ClassifierKind::Dgcnn, ClassifierKind::Geometric, ClassifierKind::Labels}) {
+    if (name == to_string(kind)) return kind;
+  }
+  throw Error(ErrorCode::InvalidArgument, "unknown classifier \"" + std::string(name) +
                                               "\": choose dgcnn (the network), geometric (the normal-based "
                                               "baseline) or labels (the input's label property)");
+}
+
+std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& config) {
+  switch (config.kind) {
+    case ClassifierKind::Labels: return std::make_unique<LabelsClassifier>();
+    case ClassifierKind::Geometric: return std::make_unique<GeometricPointClassifier>(config.geometric);
+    case ClassifierKind::Dgcnn:
+      if (config.model.empty()) {
+        throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
+      }
+      return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands,
+                                                    config.ramp_sides, config.wall_feet);
+  }
+  throw Error(ErrorCode::InvalidArgument,
+              "unknown classifier kind " + std::to_string(static_cast<int>(config.kind)));
 }
 
 }  // namespace sarmap::pipeline

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -31,8 +32,18 @@ inline DgcnnClassifierSettings pipeline_dgcnn_settings() {
   return settings;
 }
 
+// Where point classes come from: the DGCNN, the geometric baseline, or the
+// input's label property.
+enum class ClassifierKind : std::uint8_t { Dgcnn, Geometric, Labels };
+
+// "dgcnn", "geometric" or "labels".
+std::string_view to_string(ClassifierKind kind);
+// The kind a name stands for; throws sarmap::Error (InvalidArgument) naming
+// the choices for any other name.
+ClassifierKind classifier_kind_from_name(std::string_view name);
+
 struct ClassifierConfig {
-  std::string kind = "dgcnn";  // dgcnn | geometric | labels
+  ClassifierKind kind = ClassifierKind::Dgcnn;
   std::filesystem::path model;  // dgcnn only; required for it
   DgcnnClassifierSettings dgcnn = pipeline_dgcnn_settings();
   // dgcnn, after the network and its veto: patches labelled other (with

@@ -18,10 +18,10 @@ int main(int argc, char** argv) {
   try {
     auto source = sarmap::open_scan_sequence(argv[1]);
     // The geometric baseline needs no model file; for the network set
-    // config.classifier.kind = "dgcnn" and config.classifier.model to a
+    // config.classifier.kind = ClassifierKind::Dgcnn and config.classifier.model to a
     // .safetensors file (sarmap ships datasets/models/ramps-dgcnn.safetensors).
     sarmap::pipeline::MapperConfig config;
-    config.classifier.kind = "geometric";
+    config.classifier.kind = sarmap::pipeline::ClassifierKind::Geometric;
     sarmap::pipeline::Mapper mapper(config, source->sensor());
     sarmap::Scan scan;
     while (source->next(scan)) mapper.integrate(scan);

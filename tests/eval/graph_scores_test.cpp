@@ -49,7 +49,7 @@ TEST(GraphScores, EdgesThroughAWallAreCountedAndThroughTheDoorNot) {
 TEST(GraphScores, ThePipelinesMapOfARoomWithADoor) {
   const sim::Arena arena = room_with_door();
   pipeline::MapperConfig config;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   pipeline::Mapper mapper(config, sim::sensor_info(arena.sensor));
   const sim::Simulator simulator(arena);
   for (std::size_t f = 0; f < simulator.frame_count(); ++f) {

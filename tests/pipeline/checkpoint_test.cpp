@@ -32,7 +32,7 @@ const sim::Arena& default_arena() {
 MapperConfig config_for(const std::string& classifier, std::size_t max_blocks = 0) {
   MapperConfig config;
   config.bounds.max_blocks = max_blocks;
-  config.classifier.kind = classifier;
+  config.classifier.kind = classifier_kind_from_name(classifier);
   if (classifier == "dgcnn") {
     config.classifier.model = fs::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
   }

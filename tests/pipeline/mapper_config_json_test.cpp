@@ -74,7 +74,7 @@ TEST(MapperConfigJson, EveryKeyIsReadBackAsWritten) {
   ASSERT_NE(changed, config_to_json(MapperConfig{}));
   const MapperConfig read = config_from_json(changed);
   EXPECT_EQ(config_to_json(read), changed);
-  EXPECT_EQ(read.classifier.kind, "geometric");
+  EXPECT_EQ(read.classifier.kind, ClassifierKind::Geometric);
   EXPECT_EQ(read.map.fusion.fusion, metric::ClassFusion::Histogram);
   EXPECT_EQ(read.topo.body_heights.size(), 3u);
 }
@@ -114,6 +114,8 @@ TEST(MapperConfigJson, WrongTypesAreNamedWithTheValue) {
                "map.fusion.fusion: must be \"bayesian\" or \"histogram\", got \"magic\"");
   expect_error(R"({"topo": {"body_heights": [0.1, "a"]}})", "topo.body_heights: must be an array of numbers");
   expect_error(R"({"classifier": {"model": 3}})", "classifier.model: must be a string, got 3");
+  expect_error(R"({"classifier": {"kind": "oracle"}})",
+               "classifier.kind: must be \"dgcnn\", \"geometric\" or \"labels\", got \"oracle\"");
   expect_error(R"([1, 2])", "a config must be a JSON object");
 }
 

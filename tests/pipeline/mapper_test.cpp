@@ -18,7 +18,7 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   MapperConfig config;
   config.voxel = 0.1;
   config.semantic_points_voxel = 0.1;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   SensorInfo sensor;
   sensor.max_range = 4.0;
   Mapper mapper(config, sensor);
@@ -60,7 +60,7 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
 TEST(Mapper, CountsScansWalkedThroughHashTables) {
   MapperConfig config;
   config.voxel = 0.1;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   config.integrator.dense_walk_max_blocks = 4;  // smaller than any scan of the room at 0.1 m
   Mapper mapper(config, SensorInfo{});
   testing::SyntheticRoom room;
@@ -78,7 +78,7 @@ TEST(Mapper, GeometricClassifierLabelsAndKeepsGroundTruth) {
   MapperConfig config;
   config.voxel = 0.1;
   config.semantic_points_voxel = 0.1;
-  config.classifier.kind = "geometric";
+  config.classifier.kind = pipeline::ClassifierKind::Geometric;
   Mapper mapper(config);
   EXPECT_EQ(mapper.classifier().name(), "geometric");
   testing::SyntheticRoom room;
@@ -97,8 +97,10 @@ TEST(Mapper, GeometricClassifierLabelsAndKeepsGroundTruth) {
 }
 
 TEST(Mapper, RejectsBadClassifiersAndUnlabelledInput) {
+  EXPECT_THROW(classifier_kind_from_name("oracle"), Error);
+  EXPECT_EQ(classifier_kind_from_name("geometric"), ClassifierKind::Geometric);
   MapperConfig bogus;
-  bogus.classifier.kind = "oracle";
+  bogus.classifier.kind = static_cast<ClassifierKind>(7);
   EXPECT_THROW(Mapper{bogus}, Error);
   MapperConfig no_model;  // dgcnn is the default and needs a model file
   EXPECT_THROW(Mapper{no_model}, Error);
@@ -106,7 +108,7 @@ TEST(Mapper, RejectsBadClassifiersAndUnlabelledInput) {
   missing.classifier.model = "/nonexistent/model.safetensors";
   EXPECT_THROW(Mapper{missing}, Error);
   MapperConfig labels;
-  labels.classifier.kind = "labels";
+  labels.classifier.kind = pipeline::ClassifierKind::Labels;
   Mapper mapper(labels);
   Scan scan;
   scan.points.push_back(1, 1, 1);
@@ -121,7 +123,7 @@ TEST(Mapper, RejectsBadClassifiersAndUnlabelledInput) {
 TEST(Mapper, RefusesBadMapBounds) {
   for (double radius : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     MapperConfig config;
-    config.classifier.kind = "labels";
+    config.classifier.kind = pipeline::ClassifierKind::Labels;
     config.bounds.keep_radius = radius;
     EXPECT_THROW(Mapper mapper(config), Error);
   }
@@ -130,7 +132,7 @@ TEST(Mapper, RefusesBadMapBounds) {
 TEST(Mapper, KeepsTheMapWithinItsBoundsBudgetAndRadius) {
   testing::SyntheticRoom room;
   MapperConfig unbounded;
-  unbounded.classifier.kind = "labels";
+  unbounded.classifier.kind = pipeline::ClassifierKind::Labels;
   MapperConfig bounded = unbounded;
   bounded.bounds.keep_radius = 1.5;
   bounded.bounds.max_blocks = 60;
@@ -170,7 +172,7 @@ TEST(Mapper, KeepsTheMapWithinItsBoundsBudgetAndRadius) {
 TEST(Mapper, BoundedMapForgetsSegmentAndKeptPointsWithItsBlocks) {
   testing::SyntheticRoom room;
   MapperConfig unbounded;
-  unbounded.classifier.kind = "labels";
+  unbounded.classifier.kind = pipeline::ClassifierKind::Labels;
   MapperConfig bounded = unbounded;
   bounded.bounds.max_blocks = 200;
   Mapper full(unbounded), small(bounded);

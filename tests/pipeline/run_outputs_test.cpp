@@ -33,7 +33,7 @@ TEST(WriteRun, WritesEveryOutputAndTheManifestLast) {
   const sim::Arena arena = sim::load_arena(std::string(SARMAP_SOURCE_DIR) + "/datasets/arenas/esogu-6x4.json");
   const sim::Simulator simulator(arena);
   MapperConfig config;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   config.voxel = 0.1;
   Mapper mapper(config, sim::sensor_info(arena.sensor));
   for (std::size_t f = 0; f < 40; f += 8) {

@@ -24,7 +24,7 @@ Scan far_floor() {
 
 double far_points(SensorType type) {
   MapperConfig config;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   SensorInfo sensor;
   sensor.type = type;
   Mapper mapper(config, sensor);

@@ -27,7 +27,7 @@ namespace {
 
 std::unique_ptr<pipeline::Mapper> map_arena(const sim::Arena& arena, std::size_t frame_stride) {
   pipeline::MapperConfig config;
-  config.classifier.kind = "labels";
+  config.classifier.kind = pipeline::ClassifierKind::Labels;
   auto mapper = std::make_unique<pipeline::Mapper>(config, sim::sensor_info(arena.sensor));
   const sim::Simulator simulator(arena);
   for (std::size_t f = 0; f < simulator.frame_count(); f += frame_stride) {

@@ -124,7 +124,7 @@ TEST(ShippedModel, KeepsItsRecordedAccuracyOnAHeldOutArena) {
   const pipeline::ClassifierConfig dgcnn = shipped_model(false);
   const eval::ConfusionMatrix net = classify_held_out_scans(dgcnn);
   pipeline::ClassifierConfig geometric;
-  geometric.kind = "geometric";
+  geometric.kind = pipeline::ClassifierKind::Geometric;
   const eval::ConfusionMatrix baseline = classify_held_out_scans(geometric);
   print_figures("dgcnn", net);
   print_figures("geometric", baseline);

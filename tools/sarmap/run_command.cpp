@@ -97,7 +97,7 @@ pipeline::MapperConfig apply_run_options(const RunOptions& o, pipeline::MapperCo
   config.max_point_distance = o.max_point_distance;
   config.bounds.keep_radius = o.keep_radius;
   config.bounds.max_blocks = o.max_blocks;
-  config.classifier.kind = o.classifier;
+  config.classifier.kind = pipeline::classifier_kind_from_name(o.classifier);
   if (!o.model.empty()) config.classifier.model = o.model;
   config.classifier.dgcnn.min_points = o.min_block_points;
   config.classifier.dgcnn.stride = o.block_stride;
@@ -151,7 +151,7 @@ void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>
   if (!given("--max-point-distance")) o.max_point_distance = c.max_point_distance;
   if (!given("--keep-radius")) o.keep_radius = c.bounds.keep_radius;
   if (!given("--max-blocks")) o.max_blocks = c.bounds.max_blocks;
-  if (!given("--classifier")) o.classifier = c.classifier.kind;
+  if (!given("--classifier")) o.classifier = std::string(to_string(c.classifier.kind));
   if (!given("--model")) o.model = c.classifier.model;
   if (!given("--min-block-points")) o.min_block_points = c.classifier.dgcnn.min_points;
   if (!given("--block-stride")) o.block_stride = c.classifier.dgcnn.stride;
