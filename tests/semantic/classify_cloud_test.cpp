@@ -27,6 +27,35 @@ int run(const std::string& args, const fs::path& err) {
   return std::system(cmd.c_str());
 }
 
+// classify takes run's option names and defaults: blocks of 100 points are
+// classified unless --min-block-points (or its older name --min-points) asks
+// for more, and without --model the shipped ramp model is used.
+TEST(ClassifyCloud, SharesRunsOptionNamesDefaultsAndModel) {
+  const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_names_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 0.999f);
+  PointBuffer cloud;
+  for (int i = 0; i < 800; ++i) cloud.push_back(u(rng), u(rng), 0.01f * u(rng));
+  for (int i = 0; i < 150; ++i) cloud.push_back(4.0f + 0.5f * u(rng), 0.5f * u(rng), 0.0f);  // a block of 150 points
+  write_point_cloud(dir / "in.ply", cloud);
+  const auto labelled_in_small_block = [&](const std::string& options) {
+    EXPECT_EQ(run((dir / "in.ply").string() + " --out " + (dir / "out.ply").string() + " " + options, dir / "err"), 0)
+        << options << ": " << slurp(dir / "err");
+    const PointBuffer out = read_point_cloud(dir / "out.ply");
+    std::size_t labelled = 0;
+    for (std::size_t p = 800; p < out.size(); ++p) labelled += out.labels()[p] != 0;
+    return labelled;
+  };
+  const std::string model = "--model " + kDir + "model_c6.safetensors";
+  EXPECT_EQ(labelled_in_small_block(model), 150u);
+  EXPECT_EQ(labelled_in_small_block(model + " --min-block-points 200"), 0u);
+  EXPECT_EQ(labelled_in_small_block(model + " --min-points 200"), 0u);
+  EXPECT_EQ(labelled_in_small_block(model + " --block-stride 1"), 150u);
+  EXPECT_EQ(labelled_in_small_block(""), 150u);  // the shipped model
+  fs::remove_all(dir);
+}
+
 TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {
   const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_cloud_" + std::to_string(::getpid()));
   fs::create_directories(dir);
@@ -75,7 +104,7 @@ TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
                   err),
               0)
         << stride;
-    EXPECT_NE(slurp(err).find("--stride: must be a finite number >= 0"), std::string::npos) << slurp(err);
+    EXPECT_NE(slurp(err).find("--block-stride: must be a finite number >= 0"), std::string::npos) << slurp(err);
   }
   fs::remove(err);
 }

@@ -25,11 +25,13 @@
 #include "engine/semantic/rules/ramp_side_faces.hpp"
 #include "engine/semantic/rules/wall_bands.hpp"
 #include "engine/semantic/rules/wall_feet.hpp"
+#include "engine/pipeline/point_classifier.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
 #include "tools/sarmap/off_switch.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
+#include "tools/sarmap/shipped_data.hpp"
 
 namespace sarmap::cli {
 namespace {
@@ -40,14 +42,15 @@ struct ClassifyOptions {
   SequenceInputArgs sequence;
   std::string out;
   double stride = 0.0;
-  std::size_t min_points = 500;
+  // As `sarmap run`'s (pipeline_dgcnn_settings says why it is below the network's own 500).
+  std::size_t min_points = pipeline::pipeline_dgcnn_settings().min_points;
   std::uint64_t seed = 1;
   bool ramp_veto = true;
   bool wall_bands = true;
   bool ramp_sides = true;
   bool wall_feet = true;
   std::string raw_block;
-  std::string model;
+  std::string model;  // empty: the shipped ramp model
   std::string logits;
   int threads = 0;
   std::string simd;
@@ -97,7 +100,7 @@ void run_cloud(const ClassifyOptions& o) {
   if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "classify INPUT needs --out OUT.ply|OUT.pcd");
   point_cloud_format_of(o.out);  // reject an unknown output extension before the work
   if (!(o.stride >= 0) || !std::isfinite(o.stride)) {
-    throw Error(ErrorCode::InvalidArgument, "classify: --stride must be a finite number >= 0");
+    throw Error(ErrorCode::InvalidArgument, "classify: --block-stride must be a finite number >= 0");
   }
   const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
   DgcnnClassifierSettings settings;
@@ -148,9 +151,13 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)")->check(finite_non_negative());
   add_sequence_input_options(cmd, options->sequence);
   cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
-  cmd->add_option("--stride", options->stride, "Metres between block origins (default 0: three quarters of the block size)")
+  // The same names and defaults as `sarmap run`'s; --stride and --min-points
+  // are the names these options had before.
+  cmd->add_option("--block-stride,--stride", options->stride,
+                  "Metres between block origins (default 0: three quarters of the block size)")
       ->check(finite_non_negative());
-  cmd->add_option("--min-points", options->min_points, "Blocks with fewer points are dropped (default 500)")
+  cmd->add_option("--min-block-points,--min-points", options->min_points, "Blocks with fewer points are dropped")
+      ->capture_default_str()
       ->check(finite_positive());
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)")->check(finite_non_negative());
   add_off_switch(cmd, "--no-ramp-veto", options->ramp_veto,
@@ -168,7 +175,9 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--raw-block", options->raw_block,
                   "An (N, C) float32 .npy block fed to the network as it is (no preprocessing)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--model", options->model, "The network weights (.safetensors)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--model", options->model,
+                  "The network weights (.safetensors; default: the shipped ramp model, as `sarmap run`)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--logits", options->logits, "With --raw-block: where to write the (N, classes) float32 logits (.npy)");
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--simd", options->simd, "Force an instruction set: sse4_2, avx2 or avx512");
@@ -177,6 +186,7 @@ void add_classify_command(CLI::App& app) {
     if (options->raw_block.empty() == options->input.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classify: give either INPUT (a cloud or sequence) or --raw-block BLOCK.npy");
     }
+    if (options->model.empty()) options->model = shipped_ramp_model().string();
     if (options->raw_block.empty()) {
       run_cloud(*options);
     } else {
