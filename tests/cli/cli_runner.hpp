@@ -30,10 +30,11 @@ inline std::string read_all(const std::filesystem::path& p) {
 }
 
 // `args` is appended to the command line verbatim (quote paths with quoted()).
-inline CliResult run_cli(const std::string& args, const std::filesystem::path& scratch) {
+inline CliResult run_binary(const std::filesystem::path& binary, const std::string& args,
+                            const std::filesystem::path& scratch) {
   const auto out = scratch / "cli_stdout.txt";
   const auto err = scratch / "cli_stderr.txt";
-  const std::string command = quoted(SARMAP_CLI_PATH) + " " + args + " >" + quoted(out.string()) + " 2>" +
+  const std::string command = quoted(binary.string()) + " " + args + " >" + quoted(out.string()) + " 2>" +
                               quoted(err.string()) + " </dev/null";
   const int status = std::system(command.c_str());
   CliResult r;
@@ -41,6 +42,11 @@ inline CliResult run_cli(const std::string& args, const std::filesystem::path& s
   r.out = read_all(out);
   r.err = read_all(err);
   return r;
+}
+
+// The built binary, as above.
+inline CliResult run_cli(const std::string& args, const std::filesystem::path& scratch) {
+  return run_binary(SARMAP_CLI_PATH, args, scratch);
 }
 
 }  // namespace sarmap::test

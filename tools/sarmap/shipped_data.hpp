@@ -1,14 +1,31 @@
-// Files that ship in the source tree and that commands use by default: the
-// built-in default arena and the trained ramp model.
+// Files that ship with sarmap and that commands use by default: the built-in
+// default arena and the trained ramp model. An installed binary finds them in
+// the prefix's share/sarmap/ (beside its own bin/), so it needs no source tree.
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace sarmap::cli {
 
-// datasets/arenas/esogu-6x4.json
+// Where the shipped data is looked for, in order; each folder holds models/
+// and arenas/ as datasets/ does.
+struct DataDir {
+  std::filesystem::path path;
+  std::string why;  // how this place was chosen, for the error that lists them
+};
+
+// SARMAP_DATA_DIR when it is set (then the only place); otherwise
+// <binary's folder>/../share/sarmap for an installed binary, or the source
+// tree's datasets/ for the binary in the build tree it was built in.
+std::vector<DataDir> shipped_data_dirs();
+
+// arenas/esogu-6x4.json from the first place that has it; throws
+// Error(Io) naming every place looked when none has it.
 std::filesystem::path shipped_default_arena();
-// datasets/models/ramps-dgcnn.safetensors: `run --classifier dgcnn` without --model.
+// models/ramps-dgcnn.safetensors (`run --classifier dgcnn` without --model),
+// found and reported as shipped_default_arena is.
 std::filesystem::path shipped_ramp_model();
 
 }  // namespace sarmap::cli
