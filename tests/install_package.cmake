@@ -1,0 +1,104 @@
+# Installs the built sarmap into a scratch prefix and runs the installed binary
+# as a user without the source tree would: `demo` on the shipped default arena
+# and `run` with the shipped model, both found in PREFIX/share/sarmap/. The
+# installed binary never looks in the source tree (only the build-tree binary
+# does), and the second half checks that: with share/sarmap/ moved away its
+# errors name the prefix and not the source tree's datasets/, and
+# SARMAP_DATA_DIR points it at the moved folder. Also checks that the install
+# holds the package and no test, benchmark or fixture files.
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+file(REAL_PATH ${WORK_DIR} WORK_DIR)  # /proc/self/exe gives the binary's real path
+set(prefix ${WORK_DIR}/prefix)
+set(data ${prefix}/share/sarmap)
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${SARMAP_BUILD_DIR} --prefix ${prefix}
+  RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "installing sarmap failed (${rc})")
+endif()
+
+# What the prefix holds: the binary, the static libraries, the CMake package,
+# the headers, the model and the arenas; nothing else.
+foreach(f bin/sarmap lib/libsarmap_core.a lib/cmake/sarmap/sarmapConfig.cmake
+    include/sarmap/engine/core/version.hpp include/sarmap/engine/pipeline/mapper.hpp
+    share/sarmap/models/ramps-dgcnn.safetensors share/sarmap/arenas/esogu-6x4.json
+    share/sarmap/arenas/building-52x15.json)
+  if(NOT EXISTS ${prefix}/${f})
+    message(FATAL_ERROR "the install lacks ${f}")
+  endif()
+endforeach()
+file(GLOB_RECURSE installed RELATIVE ${prefix} ${prefix}/*)
+foreach(f ${installed})
+  if(NOT f MATCHES "^(bin/sarmap|lib/libsarmap_[a-z]+\\.a|lib/cmake/sarmap/[A-Za-z-]+\\.cmake|include/sarmap/(engine|kernels)/.*\\.hpp|share/sarmap/(models/ramps-dgcnn\\.safetensors|arenas/[a-z0-9-]+\\.json|arenas/meshes/.*))$")
+    message(FATAL_ERROR "the install holds ${f}, which is no part of the package")
+  endif()
+endforeach()
+
+# Runs PREFIX/bin/sarmap ARGS... from the scratch folder, with SARMAP_DATA_DIR
+# unset unless ENV_DATA_DIR is given.
+function(run_installed)
+  cmake_parse_arguments(ARG "" "ENV_DATA_DIR" "" ${ARGN})
+  if(ARG_ENV_DATA_DIR)
+    set(env SARMAP_DATA_DIR=${ARG_ENV_DATA_DIR})
+  else()
+    set(env --unset=SARMAP_DATA_DIR)
+  endif()
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env} ${prefix}/bin/sarmap ${ARG_UNPARSED_ARGUMENTS}
+    WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(rc ${rc} PARENT_SCOPE)
+  set(out "${out}" PARENT_SCOPE)
+  set(err "${err}" PARENT_SCOPE)
+endfunction()
+
+function(expect_success what)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${rc}):\n${out}\n${err}")
+  endif()
+endfunction()
+
+# The model a run's manifest names.
+function(model_of run_dir var)
+  file(READ ${run_dir}/manifest.json manifest)
+  string(JSON model GET "${manifest}" settings model)
+  set(${var} ${model} PARENT_SCOPE)
+endfunction()
+
+# The demo on the shipped default arena (the labels classifier, to stay fast).
+run_installed(demo --out ${WORK_DIR}/demo --classifier labels)
+expect_success("sarmap demo from the prefix")
+string(FIND "${out}" "arena esogu-6x4 (${data}/arenas/esogu-6x4.json)" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the demo did not use the installed default arena:\n${out}")
+endif()
+message(STATUS "${out}")
+
+# A short run with the shipped model.
+run_installed(simulate ${data}/arenas/esogu-6x4.json --out ${WORK_DIR}/sequence --frames 3 --quiet)
+expect_success("sarmap simulate from the prefix")
+run_installed(run ${WORK_DIR}/sequence --out ${WORK_DIR}/run --quiet)
+expect_success("sarmap run from the prefix")
+model_of(${WORK_DIR}/run model)
+if(NOT model STREQUAL "${data}/models/ramps-dgcnn.safetensors")
+  message(FATAL_ERROR "the run used the model ${model}, not the installed one")
+endif()
+
+# share/sarmap/ gone: each error names the place looked, never the source tree.
+file(RENAME ${data} ${prefix}/share/sarmap-moved)
+function(expect_missing command file)
+  string(FIND "${err}" "${data}/${file}, beside the binary ${prefix}/bin/sarmap" named_prefix)
+  string(FIND "${err}" "${SOURCE_DIR}/datasets" named_source)
+  if(NOT rc EQUAL 1 OR named_prefix EQUAL -1 OR NOT named_source EQUAL -1)
+    message(FATAL_ERROR "sarmap ${command} without share/sarmap/ (${rc}): ${err}")
+  endif()
+endfunction()
+run_installed(run ${WORK_DIR}/sequence --out ${WORK_DIR}/run-nodata --quiet)
+expect_missing(run models/ramps-dgcnn.safetensors)
+run_installed(demo --out ${WORK_DIR}/demo-nodata --classifier labels)
+expect_missing(demo arenas/esogu-6x4.json)
+run_installed(run ${WORK_DIR}/sequence --out ${WORK_DIR}/run-env --quiet ENV_DATA_DIR ${prefix}/share/sarmap-moved)
+expect_success("sarmap run with SARMAP_DATA_DIR")
+model_of(${WORK_DIR}/run-env model)
+if(NOT model STREQUAL "${prefix}/share/sarmap-moved/models/ramps-dgcnn.safetensors")
+  message(FATAL_ERROR "with SARMAP_DATA_DIR the run used the model ${model}")
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
