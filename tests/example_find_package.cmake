@@ -18,8 +18,15 @@ execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build RESULT_VARIAB
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "building the example failed (${rc})")
 endif()
-execute_process(COMMAND ${WORK_DIR}/build/sarmap_example ${EXAMPLE_SEQUENCE} RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+execute_process(COMMAND ${WORK_DIR}/build/sarmap_example ${EXAMPLE_SEQUENCE} ${WORK_DIR}/run
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 message(STATUS "${out}")
 if(NOT rc EQUAL 0 OR NOT out MATCHES "sarmap [0-9]+\\.[0-9]+\\.[0-9]+: 2 scans")
   message(FATAL_ERROR "the example did not run as expected (${rc}): ${out}")
 endif()
+# The library's write_run wrote the run's whole folder, manifest last.
+foreach(name manifest.json map.sarmap segments.json graph.json profile.json)
+  if(NOT EXISTS ${WORK_DIR}/run/${name})
+    message(FATAL_ERROR "the example's run folder has no ${name}")
+  endif()
+endforeach()

@@ -1,18 +1,21 @@
 // A front end outside sarmap's tree, linked against the installed package:
-// maps the sequence named on the command line and prints the stage profile,
-// the voxel counts, the segments and the topological map's size.
+// maps the sequence named on the command line, prints the stage profile, the
+// voxel counts, the segments and the topological map's size, and writes the
+// run's output folder (as `sarmap run` would) when given one.
 #include <cstdio>
 #include <exception>
 
 #include "engine/core/error.hpp"
 #include "engine/core/version.hpp"
+#include "engine/io/run_folder.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/pipeline/mapper.hpp"
+#include "engine/pipeline/run_outputs.hpp"
 #include "engine/topo/route_planner.hpp"
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s SEQUENCE\n", argv[0]);
+  if (argc != 2 && argc != 3) {
+    std::fprintf(stderr, "usage: %s SEQUENCE [OUT]\n", argv[0]);
     return 2;
   }
   try {
@@ -33,6 +36,13 @@ int main(int argc, char** argv) {
                                                 sarmap::topo::RouteGraph::Grid);
     std::printf("grid route: %s\n", route.found ? "found" : route.reason.c_str());
     std::puts(mapper.profile().table().c_str());
+    if (argc == 3) {
+      sarmap::pipeline::RunRecord record{sarmap::pipeline::input_record(argv[1]), source->layout()};
+      record.scans = mapper.profile().scan_count();
+      sarmap::RunFolderWriter folder(argv[2]);
+      sarmap::pipeline::write_run(mapper, folder, record);
+      std::printf("wrote %s\n", argv[2]);
+    }
     return counts.occupied > 0 ? 0 : 1;
   } catch (const sarmap::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
