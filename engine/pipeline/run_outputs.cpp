@@ -10,6 +10,7 @@
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
+#include "engine/pipeline/run_summary.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/ros_map_files.hpp"
@@ -28,9 +29,10 @@ nlohmann::ordered_json input_record(const fs::path& input) {
 }
 
 const std::vector<std::string>& run_output_names() {
-  static const std::vector<std::string> names{"map.sarmap",    "map.bt",       "voxels.ply", "semantic_points.ply",
-                                              "segments.json", "segments.ply", "graph.json", "graph.graphml",
-                                              "graph.ply",     "grid.pgm",     "grid.yaml",  "profile.json"};
+  static const std::vector<std::string> names{
+      "map.sarmap",   "map.bt",       "voxels.ply",    "semantic_points.ply", "segments.json",
+      "segments.ply", "graph.json",   "graph.graphml", "graph.ply",           "grid.pgm",
+      "grid.yaml",    "profile.json", "summary.json"};
   return names;
 }
 
@@ -54,6 +56,11 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   {
     AtomicFileWriter w(folder.path_of("profile.json"));
     w.write(mapper.profile().json() + "\n");
+    w.commit();
+  }
+  {
+    AtomicFileWriter w(folder.path_of(kRunSummaryName));
+    w.write(run_summary_json(mapper).dump(2) + "\n");
     w.commit();
   }
 

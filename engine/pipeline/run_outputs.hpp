@@ -1,7 +1,8 @@
 // A run's output folder from a Mapper: every map, the segments, the graph, the
-// kept points and the profile, each written atomically, then manifest.json
-// last as the set's commit record (engine/io/run_folder.hpp; docs/formats.md).
-// One writer for `sarmap run`, the examples and library front ends.
+// kept points, the profile and the summary, each written atomically, then
+// manifest.json last as the set's commit record (engine/io/run_folder.hpp;
+// docs/formats.md). One writer for `sarmap run`, the examples and library
+// front ends.
 #pragma once
 
 #include <cstddef>

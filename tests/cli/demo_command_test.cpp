@@ -52,7 +52,7 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_TRUE(fs::exists(out_ / "sequence.stamp"));
   for (const char* f :
        {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json", "segments.ply", "graph.json",
-        "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml", "manifest.json", "profile.json"}) {
+        "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml", "manifest.json", "profile.json", "summary.json"}) {
     EXPECT_TRUE(fs::exists(out_ / "run" / f)) << f;
   }
   const auto eval = nlohmann::json::parse(test::read_all(out_ / "eval.json"));

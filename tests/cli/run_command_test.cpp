@@ -80,9 +80,10 @@ TEST_F(RunCommand, WritesEveryOutput) {
     EXPECT_EQ(output.at("bytes").get<std::uintmax_t>(), fs::file_size(out / name)) << name;
     EXPECT_EQ(output.at("sha256").get<std::string>(), sha256_hex(test::read_all(out / name))) << name;
   }
-  EXPECT_EQ(listed, (std::vector<std::string>{"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply",
-                                              "segments.json", "segments.ply", "graph.json", "graph.graphml",
-                                              "graph.ply", "grid.pgm", "grid.yaml", "profile.json"}));
+  EXPECT_EQ(listed,
+            (std::vector<std::string>{"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply",
+                                      "segments.json", "segments.ply", "graph.json", "graph.graphml",
+                                      "graph.ply", "grid.pgm", "grid.yaml", "profile.json", "summary.json"}));
   EXPECT_NO_THROW(verify_run_folder(out));
   EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "labels");
 
@@ -129,6 +130,28 @@ TEST_F(RunCommand, WritesEveryOutput) {
   // No segment, no node: an empty graph in each format, and a grid of what was seen.
   EXPECT_EQ(json_of(out / "graph.json").at("nodes").size(), 0u);
   for (const char* f : {"graph.graphml", "graph.ply", "grid.pgm", "grid.yaml"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+
+  // summary.json: the same run's figures as profile.json and the maps have them.
+  const auto summary = nlohmann::ordered_json::parse(test::read_all(out / "summary.json"));
+  EXPECT_EQ(summary.at("version").get<int>(), 1);
+  EXPECT_EQ(summary.at("scans").get<int>(), 2);
+  EXPECT_EQ(summary.at("points_in").get<int>(), 5);
+  EXPECT_EQ(summary.at("points_out").get<int>(), 5);
+  EXPECT_EQ(summary.at("wall_s"), profile.at("wall_s"));
+  EXPECT_EQ(summary.at("scans_per_second"), profile.at("scans_per_second"));
+  std::vector<std::string> summary_stages;
+  for (const auto& [name, stage] : summary.at("stages").items()) {
+    summary_stages.push_back(name);
+    const auto& timed = profile.at("stages").at(name);
+    EXPECT_EQ(stage.at("mean_ms").get<double>(), std::round(timed.at("mean_s").get<double>() * 1e6) / 1e3);
+    EXPECT_EQ(stage.at("p95_ms").get<double>(), std::round(timed.at("p95_s").get<double>() * 1e6) / 1e3);
+  }
+  EXPECT_EQ(summary_stages, stages);
+  EXPECT_EQ(summary.at("metric_map").at("occupied_voxels").get<std::size_t>(), map.counts().occupied);
+  EXPECT_EQ(summary.at("metric_map").at("free_voxels").get<std::size_t>(), map.counts().free);
+  EXPECT_EQ(summary.at("semantic_points").get<std::size_t>(), 5u);
+  EXPECT_EQ(summary.at("segments").at("count").get<int>(), 0);
+  EXPECT_EQ(summary.at("topo_map").at("nodes").get<int>(), 0);
 }
 
 // semantic_points.ply and voxels.ply carry red, green and blue from the one

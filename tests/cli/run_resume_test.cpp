@@ -1,8 +1,8 @@
 // `sarmap run --checkpoint-every N --resume`: runs killed with SIGKILL at
 // random moments (a fixed seed, a bounded number of trials) and resumed end
-// with outputs equal to an uninterrupted run's, byte for byte (profile.json
-// and the manifest that hashes it aside: they hold timings), and no kill
-// ever leaves an output folder that reads as whole but is not.
+// with outputs equal to an uninterrupted run's, byte for byte (profile.json,
+// summary.json and the manifest that hashes them aside: they hold timings),
+// and no kill ever leaves an output folder that reads as whole but is not.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -14,6 +14,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
 #include "engine/io/run_folder.hpp"
@@ -94,6 +96,13 @@ class RunResume : public ::testing::Test {
     for (const std::string& name : kCompared) {
       EXPECT_TRUE(read_all(a / name) == read_all(b / name)) << name << " differs between " << a << " and " << b;
     }
+    // summary.json's figures too, but for its timings.
+    const auto figures = [](const fs::path& folder) {
+      auto summary = nlohmann::json::parse(read_all(folder / "summary.json"));
+      for (const char* timing : {"wall_s", "scans_per_second", "stages"}) summary.erase(timing);
+      return summary;
+    };
+    EXPECT_EQ(figures(a), figures(b)) << "summary.json differs between " << a << " and " << b;
   }
 
   static test::ScratchFolder* sequence_;

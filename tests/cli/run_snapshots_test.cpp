@@ -55,6 +55,17 @@ TEST_F(RunSnapshots, ASnapshotHoldsTheMapsOfARunCutThere) {
   for (const char* name : {"map.sarmap", "voxels.ply", "semantic_points.ply", "segments.json", "graph.json"}) {
     EXPECT_TRUE(read_all(scratch_ / "run" / "snap_0002" / name) == read_all(scratch_ / "cut_run" / name)) << name;
   }
+  // Its summary.json too, listed in its manifest, and its figures but for the timings.
+  const auto outputs = nlohmann::json::parse(read_all(scratch_ / "run" / "snap_0002" / "manifest.json")).at("outputs");
+  EXPECT_EQ(outputs.back().at("name").get<std::string>(), "summary.json");
+  const auto figures = [](const fs::path& folder) {
+    auto summary = nlohmann::json::parse(read_all(folder / "summary.json"));
+    for (const char* timing : {"wall_s", "scans_per_second", "stages"}) summary.erase(timing);
+    return summary;
+  };
+  EXPECT_EQ(figures(scratch_ / "run" / "snap_0002").at("scans"), 2);
+  EXPECT_EQ(figures(scratch_ / "run" / "snap_0002"), figures(scratch_ / "cut_run"));
+  EXPECT_EQ(figures(scratch_ / "run").at("scans"), 3);
   // And the final maps are not the snapshot's.
   EXPECT_FALSE(read_all(scratch_ / "run" / "map.sarmap") == read_all(scratch_ / "run" / "snap_0002" / "map.sarmap"));
 }

@@ -135,7 +135,7 @@ void run_demo(const DemoArgs& a) {
               (out / "eval.json").string().c_str());
   std::printf(
       "outputs   %s: map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
-      "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json\n",
+      "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, summary.json\n",
       run_dir.string().c_str());
   std::printf("total     %.1f s\n", seconds_since(start));
 }

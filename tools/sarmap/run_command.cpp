@@ -1,7 +1,7 @@
 // `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
 // builds the maps scan by scan through the pipeline's Mapper and writes every output through
 // pipeline::write_run (map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*,
-// profile.json, then manifest.json; docs/formats.md), each atomically.
+// profile.json, summary.json, then manifest.json; docs/formats.md), each atomically.
 #include <unistd.h>
 
 #include <algorithm>
@@ -324,7 +324,7 @@ RunSummary run_pipeline(const RunOptions& o) {
                 mapper.segment_map().size(), nodes, topo.edges().size(), tree);
     std::printf(
         "wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
-        "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json to %s\n",
+        "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, summary.json to %s\n",
         o.out.string().c_str());
   }
   return summary;

@@ -1,0 +1,76 @@
+#include "engine/pipeline/run_summary.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/classes.hpp"
+#include "engine/metric/map_summary.hpp"
+
+namespace sarmap::pipeline {
+
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+// Counters are summed as doubles; every one counted here is a whole number.
+std::uint64_t count(const StageProfile& profile, std::string_view stage, std::string_view counter) {
+  return static_cast<std::uint64_t>(profile.counter(stage, counter));
+}
+
+// To the microsecond: finer digits are noise, and they would fill the page.
+double milliseconds(double seconds) { return std::round(seconds * 1e6) / 1e3; }
+
+Json by_class(const std::array<std::size_t, kClassCount>& counts) {
+  Json j = Json::object();
+  for (std::size_t c = 0; c < kClassCount; ++c) j[std::string(kClassTable[c].name)] = counts[c];
+  return j;
+}
+
+}  // namespace
+
+Json run_summary_json(const Mapper& mapper) {
+  const StageProfile& profile = mapper.profile();
+  Json j;
+  j["version"] = kRunSummaryVersion;
+  j["scans"] = profile.scan_count();
+  j["scans_skipped"] = profile.skipped_scans();
+  j["points_in"] = count(profile, "preprocess", "points_in");
+  j["points_out"] = count(profile, "preprocess", "points_out");
+  j["wall_s"] = profile.wall_seconds();
+  // As profile.json has it.
+  j["scans_per_second"] =
+      profile.wall_seconds() > 0 ? static_cast<double>(profile.scan_count()) / profile.wall_seconds() : 0.0;
+  Json stages = Json::object();
+  for (const std::string& name : profile.stage_names()) {
+    const StageProfile::StageStats s = profile.stats(name);
+    stages[name] = {{"mean_ms", milliseconds(s.mean_s)}, {"p95_ms", milliseconds(s.p95_s)}};
+  }
+  j["stages"] = std::move(stages);
+
+  const metric::MapSummary map = metric::summarize_map(mapper.metric_map());
+  j["metric_map"] = {
+      {"voxel", mapper.metric_map().resolution()}, {"blocks", map.counts.blocks},
+      {"known_voxels", map.counts.known},          {"free_voxels", map.counts.free},
+      {"occupied_voxels", map.counts.occupied},    {"occupied_by_class", by_class(map.occupied_by_class)}};
+  j["semantic_points"] = mapper.semantic_points().size();
+
+  std::array<std::size_t, kClassCount> segments_by_class{};
+  const std::vector<const segments::Segment*> segments = mapper.segment_map().segments();
+  for (const segments::Segment* s : segments) ++segments_by_class[static_cast<std::size_t>(s->label)];
+  j["segments"] = {{"count", segments.size()}, {"by_class", by_class(segments_by_class)}};
+
+  const topo::TopoMap& topo = mapper.topo_map();
+  std::size_t nodes = 0, tree_edges = 0;
+  for (const topo::TopoNode& n : topo.nodes()) nodes += n.alive;
+  for (const topo::TopoEdge& e : topo.edges()) tree_edges += e.in_tree;
+  // The spanning forest has one tree per component of the alive nodes.
+  j["topo_map"] = {{"nodes", nodes},
+                   {"roadmap_edges", topo.edges().size()},
+                   {"tree_edges", tree_edges},
+                   {"components", nodes - tree_edges}};
+  return j;
+}
+
+}  // namespace sarmap::pipeline
