@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -167,7 +168,10 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
   return e;
 }
 
-std::string format_json(const RunEvaluation& e) {
+namespace {
+
+// Every figure, as `sarmap eval --json` prints it.
+Json to_json(const RunEvaluation& e) {
   Json j;
   j["arena"] = e.arena_name;
   j["run"] = e.run_dir.string();
@@ -206,7 +210,37 @@ std::string format_json(const RunEvaluation& e) {
   if (e.segments) add_segment_scores_json(*e.segments, j);
   if (e.graph) add_graph_scores_json(*e.graph, j);
   j["notes"] = e.notes;
-  return j.dump(2) + "\n";
+  return j;
+}
+
+}  // namespace
+
+std::string format_json(const RunEvaluation& e) { return to_json(e).dump(2) + "\n"; }
+
+Json summary_json(const RunEvaluation& e) {
+  const Json all = to_json(e);
+  const auto pick = [](const Json& from, std::initializer_list<const char*> keys) {
+    Json picked = Json::object();
+    for (const char* key : keys) {
+      if (from.contains(key)) picked[key] = from[key];
+    }
+    return picked;
+  };
+  Json j = pick(all, {"arena", "arena_checked", "points_scored", "accuracy", "mean_iou", "per_class_iou",
+                      "voxel_resolution", "voxel_precision", "voxel_recall", "voxel_f1",
+                      "voxel_precision_within_1", "voxel_recall_within_1", "voxel_f1_within_1",
+                      "free_accuracy", "free_precision", "voxel_class_accuracy"});
+  if (all.contains("segments")) {
+    j["segments"] = pick(all["segments"],
+                         {"segment_count", "counted", "seen", "matched", "missed", "split", "on_sides",
+                          "spurious", "max_normal_error_deg", "max_offset_error_m", "max_slope_error_deg"});
+  }
+  if (all.contains("graph")) {
+    j["graph"] = pick(all["graph"],
+                      {"nodes", "edges", "tree_edges", "edges_crossing_walls", "tree_edges_crossing_walls"});
+  }
+  j["notes"] = all["notes"];
+  return j;
 }
 
 std::string format_table(const RunEvaluation& e) {

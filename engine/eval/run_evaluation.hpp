@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/eval/graph_scores.hpp"
 #include "engine/eval/point_evaluation.hpp"
 #include "engine/eval/segment_scores.hpp"
@@ -52,5 +54,9 @@ RunEvaluation evaluate_run(const sim::Arena& arena, const std::filesystem::path&
 
 std::string format_table(const RunEvaluation& evaluation);
 std::string format_json(const RunEvaluation& evaluation);
+// The headline figures of format_json, under the same keys and with the same
+// values, without its lists (confusion matrices, faces, crossing edges,
+// route pairs): what `sarmap demo` adds to the run's summary.json as "eval".
+nlohmann::ordered_json summary_json(const RunEvaluation& evaluation);
 
 }  // namespace sarmap::eval

@@ -3,13 +3,18 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <vector>
 
 #include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
+#include "engine/io/run_folder.hpp"
 #include "engine/metric/map_summary.hpp"
 
 namespace sarmap::pipeline {
 
+namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 namespace {
@@ -25,6 +30,15 @@ double milliseconds(double seconds) { return std::round(seconds * 1e6) / 1e3; }
 Json by_class(const std::array<std::size_t, kClassCount>& counts) {
   Json j = Json::object();
   for (std::size_t c = 0; c < kClassCount; ++c) j[std::string(kClassTable[c].name)] = counts[c];
+  return j;
+}
+
+Json read_json_object(const fs::path& path) {
+  std::ifstream in(path);
+  Json j = Json::parse(in, nullptr, false);
+  if (!in || j.is_discarded() || !j.is_object()) {
+    throw Error(ErrorCode::InvalidData, path.string() + ": not a JSON object");
+  }
   return j;
 }
 
@@ -71,6 +85,36 @@ Json run_summary_json(const Mapper& mapper) {
                    {"tree_edges", tree_edges},
                    {"components", nodes - tree_edges}};
   return j;
+}
+
+void add_to_run_summary(const fs::path& folder, const std::string& key, const Json& value) {
+  verify_run_folder(folder);
+  Json manifest = read_json_object(folder / kRunManifestName);
+  std::vector<std::string> outputs;
+  bool listed = false;
+  for (const Json& output : manifest.at("outputs")) {
+    outputs.push_back(output.at("name").get<std::string>());
+    listed = listed || outputs.back() == kRunSummaryName;
+  }
+  const fs::path summary_path = folder / kRunSummaryName;
+  if (!listed) {
+    throw Error(ErrorCode::InvalidData, (folder / kRunManifestName).string() +
+                                            ": lists no summary.json (written by an older sarmap)");
+  }
+  Json summary = read_json_object(summary_path);
+  if (summary.contains(key)) {
+    throw Error(ErrorCode::InvalidArgument, summary_path.string() + ": already has \"" + key + "\"");
+  }
+  summary[key] = value;
+  manifest.erase("outputs");  // commit() lists them again, last, as write_run's manifest has them
+
+  RunFolderWriter writer(folder);  // the folder's lock; removes the manifest
+  {
+    AtomicFileWriter w(summary_path);
+    w.write(summary.dump(2) + "\n");
+    w.commit();
+  }
+  writer.commit(manifest, outputs);
 }
 
 }  // namespace sarmap::pipeline

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/io/run_folder.hpp"
 #include "tests/cli/cli_runner.hpp"
 
 namespace sarmap {
@@ -61,6 +62,38 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_GT(eval.at("voxel_class_accuracy").get<double>(), 0.9);
   EXPECT_DOUBLE_EQ(eval.at("accuracy").get<double>(), 1.0);  // the labels classifier passes the truth through
   EXPECT_EQ(eval.at("arena_checked"), true);  // the sequence named its arena, and it is this one
+}
+
+// The run's summary.json gains eval's headline figures, each as `sarmap eval
+// --json` gives it for the same run, and the run folder still verifies.
+TEST_F(DemoCommand, AddsEvalsFiguresToTheRunsSummary) {
+  ASSERT_EQ(demo().exit_code, 0);
+  EXPECT_NO_THROW(verify_run_folder(out_ / "run"));
+  const auto summary = nlohmann::json::parse(test::read_all(out_ / "run" / "summary.json"));
+  EXPECT_EQ(summary.at("scans").get<int>(), 3);  // the run's own figures stay
+  ASSERT_TRUE(summary.contains("eval")) << summary.dump(2);
+  const nlohmann::json& figures = summary.at("eval");
+
+  const auto r = run_cli("eval --arena " + quoted(arena_.string()) + " --run " + quoted((out_ / "run").string()) +
+                             " --json --quiet",
+                         dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto eval = nlohmann::json::parse(r.out);
+  for (const char* key : {"arena", "arena_checked", "accuracy", "mean_iou", "per_class_iou", "voxel_precision",
+                          "voxel_recall", "voxel_f1", "voxel_class_accuracy", "segments", "graph", "notes"}) {
+    EXPECT_TRUE(figures.contains(key)) << key;
+  }
+  for (const auto& [key, value] : figures.items()) {
+    ASSERT_TRUE(eval.contains(key)) << key;
+    if (!value.is_object()) {
+      EXPECT_EQ(value, eval.at(key)) << key;
+      continue;
+    }
+    EXPECT_FALSE(value.empty()) << key;
+    for (const auto& [inner, figure] : value.items()) EXPECT_EQ(figure, eval.at(key).at(inner)) << key << "." << inner;
+  }
+  EXPECT_EQ(figures.at("segments").at("segment_count"), summary.at("segments").at("count"));
+  EXPECT_EQ(figures.at("graph").at("nodes"), summary.at("topo_map").at("nodes"));
 }
 
 TEST_F(DemoCommand, ReusesTheCachedSequenceUntilItsInputsChange) {

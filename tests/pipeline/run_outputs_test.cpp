@@ -1,7 +1,8 @@
 // write_run: a Mapper's whole output set, written by the library as `sarmap
 // run` writes it: every file there and readable, the manifest last with the
 // config that made the maps, and a folder that verify_run_folder accepts;
-// summary.json holds the Mapper's own figures.
+// summary.json holds the Mapper's own figures, and add_to_run_summary adds
+// to it without breaking the set.
 #include "engine/pipeline/run_outputs.hpp"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/error.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/metric/map_file.hpp"
@@ -169,6 +171,48 @@ TEST(WriteRun, SummaryHoldsTheMappersOwnFigures) {
   EXPECT_EQ(topo_map.at("roadmap_edges"), mapper.topo_map().edges().size());
   EXPECT_EQ(topo_map.at("tree_edges"), tree);
   EXPECT_EQ(topo_map.at("components"), nodes - tree);
+}
+
+TEST(AddToRunSummary, AddsAMemberAndCommitsTheFolderAgain) {
+  const MappedArena mapped;
+  const test::ScratchFolder scratch;
+  const fs::path run = scratch / "run";
+  write_run_into(mapped.mapper, run);
+  nlohmann::json summary = json_of(run / "summary.json");
+  nlohmann::json manifest = json_of(run / "manifest.json");
+
+  const nlohmann::ordered_json figures{{"voxel_f1", 0.9}, {"graph", {{"nodes", 3}}}};
+  add_to_run_summary(run, "eval", figures);
+  EXPECT_NO_THROW(verify_run_folder(run));
+  nlohmann::json amended = json_of(run / "summary.json");
+  EXPECT_EQ(amended.at("eval"), nlohmann::json::parse(figures.dump()));
+  amended.erase("eval");
+  EXPECT_EQ(amended, summary);  // the run's own figures as they were
+  nlohmann::json recommitted = json_of(run / "manifest.json");
+  for (std::size_t i = 0; i < run_output_names().size(); ++i) {
+    const nlohmann::json& before = manifest.at("outputs")[i];
+    const nlohmann::json& after = recommitted.at("outputs")[i];
+    EXPECT_EQ(after.at("name"), before.at("name"));
+    EXPECT_EQ(after.at("sha256") == before.at("sha256"),
+              before.at("name").get<std::string>() != "summary.json")
+        << before.at("name");
+  }
+  manifest.erase("outputs");
+  recommitted.erase("outputs");
+  EXPECT_EQ(recommitted, manifest);  // the same record
+
+  // Nothing replaces a member, the run's or an added one; the folder stays as it was.
+  const std::string before = json_of(run / "manifest.json").dump();
+  EXPECT_THROW(add_to_run_summary(run, "eval", 1), Error);
+  EXPECT_THROW(add_to_run_summary(run, "scans", 1), Error);
+  EXPECT_EQ(json_of(run / "manifest.json").dump(), before);
+  EXPECT_NO_THROW(verify_run_folder(run));
+
+  // A folder that does not verify is refused and keeps its manifest.
+  std::ofstream(run / "graph.json", std::ios::app) << " ";
+  EXPECT_THROW(add_to_run_summary(run, "other", 1), Error);
+  EXPECT_EQ(json_of(run / "manifest.json").dump(), before);
+  EXPECT_FALSE(json_of(run / "summary.json").contains("other"));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `sarmap demo`: the whole pipeline on the built-in default arena in one
 // command: simulate it (cached), `sarmap run` on the sequence, `sarmap eval`
-// on the run, then a short summary of figures and where the outputs are.
+// on the run (its headline figures added to the run's summary.json), then a
+// short summary of figures and where the outputs are.
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "engine/core/error.hpp"
 #include "engine/eval/run_evaluation.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/pipeline/run_summary.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
 #include "tools/sarmap/number_checks.hpp"
@@ -98,6 +100,9 @@ void run_demo(const DemoArgs& a) {
     writer.write(eval::format_json(evaluation));
     writer.commit();
   }
+  // Into the run's own summary too; the folder is committed again, so it
+  // still verifies (docs/formats.md, "summary.json").
+  pipeline::add_to_run_summary(run_dir, "eval", eval::summary_json(evaluation));
   const double eval_s = seconds_since(eval_start);
 
   std::printf("sequence  %s: %s in %.1f s\n", sequence.string().c_str(),
@@ -131,8 +136,8 @@ void run_demo(const DemoArgs& a) {
   if (evaluation.graph) {
     std::printf("graph     %s\n", eval::graph_scores_summary(*evaluation.graph).c_str());
   }
-  std::printf("eval      %.1f s; figures in %s (sarmap eval --json)\n", eval_s,
-              (out / "eval.json").string().c_str());
+  std::printf("eval      %.1f s; figures in %s (sarmap eval --json), headline figures in %s\n", eval_s,
+              (out / "eval.json").string().c_str(), (run_dir / "summary.json").string().c_str());
   std::printf(
       "outputs   %s: map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
       "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, summary.json\n",
