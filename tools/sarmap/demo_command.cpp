@@ -152,7 +152,7 @@ void add_demo_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "demo", "Simulate the default arena (cached), build its maps, score them and print a summary");
   cmd->add_option("--out", args->out, "Output folder (sequence/, run/, eval.json)")->capture_default_str();
-  cmd->add_option("--arena", args->arena, "Arena description instead of datasets/arenas/esogu-6x4.json");
+  cmd->add_option("--arena", args->arena, "Arena description instead of the shipped default arena (esogu-6x4.json in the data folder: README, Install)");
   cmd->add_option("--seed", args->seed, "Seed of the simulated sensor noise")
       ->capture_default_str()
       ->check(finite_non_negative());
@@ -161,7 +161,7 @@ void add_demo_command(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--classifier", args->classifier, "dgcnn, geometric or labels (as for sarmap run)")
       ->capture_default_str();
-  cmd->add_option("--model", args->model, "DGCNN weights instead of datasets/models/ramps-dgcnn.safetensors");
+  cmd->add_option("--model", args->model, "DGCNN weights instead of the shipped ramp model (ramps-dgcnn.safetensors in the data folder: README, Install)");
   cmd->add_flag("--quiet", args->quiet, "No progress lines; the summary is still printed");
   cmd->callback([args] { run_demo(*args); });
 }

@@ -346,7 +346,7 @@ void add_run_command(CLI::App& app) {
                   "Where point classes come from: dgcnn (the network), geometric (normal-based baseline, "
                   "no model) or labels (the input's label property)")
       ->capture_default_str();
-  cmd->add_option("--model", o->model, "DGCNN weights (default datasets/models/ramps-dgcnn.safetensors)");
+  cmd->add_option("--model", o->model, "DGCNN weights (default: the shipped ramp model, ramps-dgcnn.safetensors in the data folder: README, Install)");
   cmd->add_option("--min-block-points", o->min_block_points,
                   "DGCNN blocks with fewer points are not classified (their points stay unknown)")
       ->capture_default_str()
