@@ -132,7 +132,11 @@ void save_map(const MetricMap& map, const std::filesystem::path& path) {
 MetricMap load_map(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ErrorCode::Io, "cannot open metric map file " + name);
+  if (!in) {
+    std::error_code ec;
+    throw Error(ErrorCode::Io, "cannot open metric map file " + name +
+                                   (std::filesystem::exists(path, ec) ? "" : ": no such file"));
+  }
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw Error(ErrorCode::Io, "cannot read metric map file " + name);
   const auto fail = [&](std::size_t offset, const std::string& what) -> Error {
