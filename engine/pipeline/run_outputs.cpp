@@ -1,5 +1,7 @@
 #include "engine/pipeline/run_outputs.hpp"
 
+#include <algorithm>
+
 #include "engine/core/class_colors.hpp"
 #include "engine/core/version.hpp"
 #include "engine/io/atomic_file.hpp"
@@ -41,6 +43,11 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   metric::save_map(map, folder.path_of("map.sarmap"));
   metric::write_octomap_bt(map, folder.path_of("map.bt"));
   metric::write_voxel_cloud(map, folder.path_of("voxels.ply"));
+  std::vector<std::string> outputs = run_output_names();
+  if (record.voxel_cubes) {
+    metric::write_voxel_cubes(map, folder.path_of("voxel_cubes.ply"));
+    outputs.insert(std::find(outputs.begin(), outputs.end(), "voxels.ply") + 1, "voxel_cubes.ply");
+  }
   {
     PointBuffer semantic = mapper.semantic_points();  // a copy: the colours are for the file only
     paint_class_colors(semantic);
@@ -77,7 +84,7 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   if (!record.settings.is_null()) manifest["settings"] = record.settings;
   // Every setting of the Mapper, for `sarmap run --config OUT/manifest.json`.
   manifest["config"] = config_to_json(mapper.config());
-  folder.commit(manifest, run_output_names());
+  folder.commit(manifest, outputs);
 }
 
 }  // namespace sarmap::pipeline

@@ -20,7 +20,8 @@ class RunFolderWriter;
 
 namespace sarmap::pipeline {
 
-// What manifest.json records besides the outputs and the Mapper's config.
+// What manifest.json records besides the outputs and the Mapper's config,
+// and the optional outputs.
 struct RunRecord {
   nlohmann::ordered_json input;  // input_record() of the sequence folder or cloud
   std::string layout;           // sarmap | tum | 7scenes | cloud
@@ -30,6 +31,9 @@ struct RunRecord {
   // What a front end was asked for in its own terms (`sarmap run`'s
   // "settings"); left out when null.
   nlohmann::ordered_json settings;
+  // Also write voxel_cubes.ply: each occupied voxel as a cube in its class
+  // colour, for viewers that know no voxels (listed after voxels.ply).
+  bool voxel_cubes = false;
 };
 
 // manifest.json's "input": the absolute path and the SHA-256 of the file
@@ -37,7 +41,7 @@ struct RunRecord {
 // sequence.json; null for other folders).
 nlohmann::ordered_json input_record(const std::filesystem::path& input);
 
-// The files write_run writes before the manifest, in order.
+// The files write_run always writes before the manifest, in order.
 const std::vector<std::string>& run_output_names();
 
 // Writes every output of `mapper` into `folder`, then its manifest.json

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -183,6 +184,31 @@ TEST_F(RunCommand, PointsAndVoxelsAreColouredByClass) {
   const PointBuffer voxels = read_point_cloud(out / "voxels.ply", &info);
   EXPECT_EQ(info.comments, (std::vector<std::string>{"written by sarmap", "voxel_size 0.1"}));
   EXPECT_LT(voxels.find_score("probability"), voxels.score_count());
+}
+
+// --voxel-cubes adds voxel_cubes.ply, a mesh of 8 corners and 6 faces per
+// occupied voxel, listed in the manifest after voxels.ply; without it there is none.
+TEST_F(RunCommand, VoxelCubesAreWrittenAndListedOnlyWhenAsked) {
+  for (const bool cubes : {true, false}) {
+    const fs::path out = dir_ / (cubes ? "cubes" : "plain");
+    const auto r = run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) +
+                               " --voxel 0.1 --classifier labels --quiet" + (cubes ? " --voxel-cubes" : ""),
+                           dir_);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json manifest = json_of(out / "manifest.json");
+    std::vector<std::string> listed;
+    for (const auto& output : manifest.at("outputs")) listed.push_back(output.at("name").get<std::string>());
+    EXPECT_EQ(fs::exists(out / "voxel_cubes.ply"), cubes);
+    EXPECT_EQ(std::find(listed.begin(), listed.end(), "voxel_cubes.ply") != listed.end(), cubes);
+    if (!cubes) continue;
+    EXPECT_EQ(listed[3], "voxel_cubes.ply");  // after map.sarmap, map.bt, voxels.ply
+    const std::size_t occupied = metric::load_map(out / "map.sarmap").counts().occupied;
+    ASSERT_GT(occupied, 0u);
+    EXPECT_EQ(read_point_cloud(out / "voxel_cubes.ply").size(), 8 * occupied);
+    EXPECT_NE(test::read_all(out / "voxel_cubes.ply").find("element face " + std::to_string(6 * occupied) + "\n"),
+              std::string::npos);
+    EXPECT_NO_THROW(verify_run_folder(out));
+  }
 }
 
 TEST_F(RunCommand, MissingInputIsAnError) {

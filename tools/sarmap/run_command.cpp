@@ -254,6 +254,7 @@ RunSummary run_pipeline(const RunOptions& o) {
     record.scans = scans;
     record.scans_skipped = skipped.count();
     record.settings = run_settings(o, mapper);
+    record.voxel_cubes = o.voxel_cubes;
     pipeline::write_run(mapper, into, record);
   };
   // After every frame, read or not: the checkpoint holds the state between two frames.
@@ -322,10 +323,12 @@ RunSummary run_pipeline(const RunOptions& o) {
     for (const topo::TopoEdge& e : topo.edges()) tree += e.in_tree;
     std::printf("%zu segments; topological map: %zu nodes, %zu roadmap edges, %zu tree edges\n",
                 mapper.segment_map().size(), nodes, topo.edges().size(), tree);
-    std::printf(
-        "wrote map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
-        "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, summary.json to %s\n",
-        o.out.string().c_str());
+    std::string written;
+    for (const std::string& name : pipeline::run_output_names()) {
+      written += name + ", ";
+      if (name == "voxels.ply" && o.voxel_cubes) written += "voxel_cubes.ply, ";
+    }
+    std::printf("wrote %smanifest.json to %s\n", written.c_str(), o.out.string().c_str());
   }
   return summary;
 }
@@ -408,6 +411,9 @@ void add_run_command(CLI::App& app) {
                   "the maps as they grew")
       ->delimiter(',')
       ->check(finite_non_negative());
+  cmd->add_flag("--voxel-cubes", o->voxel_cubes,
+                "Also write voxel_cubes.ply: every occupied voxel as a cube in its class colour, for viewers "
+                "that know no voxels (as `sarmap convert --voxel-cubes`)");
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o, cmd] {
     if (!o->config_file.empty()) {

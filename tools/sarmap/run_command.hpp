@@ -49,6 +49,8 @@ struct RunOptions {
   // Also write the whole output set after each of these numbers of scans,
   // into OUT/snap_NNNN/ (each a folder with its own manifest).
   std::vector<std::size_t> snapshots;
+  // Also write voxel_cubes.ply (each occupied voxel as a coloured cube mesh).
+  bool voxel_cubes = false;
   bool quiet = false;
   // Every Mapper setting without a field above (segments, topo, occupancy,
   // ...), from `--config`; the fields above are applied over it.
