@@ -114,7 +114,8 @@ TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality q
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->scene, embree_quality(quality));
-  for (const ClassedMesh& m : meshes) {
+  for (std::size_t mesh_index = 0; mesh_index < meshes.size(); ++mesh_index) {
+    const ClassedMesh& m = meshes[mesh_index];
     if (m.indices.empty()) continue;
     validate_mesh(m);
     RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -139,8 +140,12 @@ TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality q
     rtcCommitGeometry(g);
     const unsigned id = rtcAttachGeometry(impl_->scene, g);
     rtcReleaseGeometry(g);
-    if (id >= labels_.size()) labels_.resize(id + 1, ClassId::Unknown);
+    if (id >= labels_.size()) {
+      labels_.resize(id + 1, ClassId::Unknown);
+      meshes_.resize(id + 1, 0);
+    }
     labels_[id] = m.label;
+    meshes_[id] = static_cast<std::uint32_t>(mesh_index);
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the scene");
@@ -162,6 +167,27 @@ TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const
     hit.t = rh.ray.tfar;
     hit.label = labels_[rh.hit.geomID];
   }
+  return hit;
+}
+
+TriangleScene::SurfaceHit TriangleScene::closest_hit(const Eigen::Vector3f& origin,
+                                                      const Eigen::Vector3f& direction, float t_near,
+                                                      float t_far) const {
+  check_ray(origin, &direction, t_near, t_far);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  init_ray(rh, origin, direction, t_near, t_far);
+  rtcIntersect1(impl_->scene, &context, &rh);
+  SurfaceHit hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.hit = true;
+  hit.t = rh.ray.tfar;
+  hit.mesh = meshes_[rh.hit.geomID];
+  hit.triangle = rh.hit.primID;
+  Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  n.normalize();
+  hit.normal = n.dot(direction) > 0 ? -n : n;
   return hit;
 }
 

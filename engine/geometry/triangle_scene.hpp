@@ -1,6 +1,7 @@
 // Classed triangle meshes in one Embree scene, one geometry per mesh: first
-// hits of rays (the simulated sensors, ground heights) and batched occlusion
-// of line segments (the topological map's edges against its walls).
+// hits of rays (the simulated sensors, ground heights, rendered pictures) and
+// batched occlusion of line segments (the topological map's edges against its
+// walls).
 #pragma once
 
 #include <cstddef>
@@ -54,6 +55,22 @@ class TriangleScene {
   Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
                 float t_far) const;
 
+  struct SurfaceHit {
+    bool hit = false;
+    float t = 0;                 // in units of the direction's length
+    std::uint32_t mesh = 0;      // index of the hit mesh in the constructor's span
+    std::uint32_t triangle = 0;  // index of the hit triangle within that mesh
+    // Unit normal of the hit triangle's plane, turned to face the ray's
+    // origin (so a renderer need not know the mesh's winding).
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+  };
+
+  // As intersect, but says which triangle of which mesh was hit and its
+  // normal: what a renderer needs to colour and shade the pixel. Checks and
+  // throws as intersect does.
+  SurfaceHit closest_hit(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
+                         float t_far) const;
+
   // A batch of rays from one origin: t_out[i] is the hit distance (infinity on
   // a miss), label_out[i] its class. Allocates nothing.
   void intersect_batch(const Eigen::Vector3f& origin, std::span<const Eigen::Vector3f> directions,
@@ -79,7 +96,8 @@ class TriangleScene {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::vector<ClassId> labels_;
+  std::vector<ClassId> labels_;        // by Embree geometry id
+  std::vector<std::uint32_t> meshes_;  // by Embree geometry id: the index in the constructor's span
 };
 
 }  // namespace sarmap::geometry

@@ -108,6 +108,46 @@ TEST(TriangleScene, EmptyMeshesAreSkipped) {
   EXPECT_EQ(scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 100).label, ClassId::Wall);
 }
 
+// Two unit squares (two triangles each, known order) in the planes z = 1 and
+// x = 3, after an empty mesh: which mesh and triangle a ray meets, where, and
+// the normal turned towards the ray's origin whichever side it comes from.
+TEST(TriangleScene, ClosestHitNamesMeshTriangleAndNormal) {
+  ClassedMesh floor_square;
+  floor_square.vertices = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  add_quad(floor_square, 0, 1, 2, 3);  // triangles (0, 1, 2) and (0, 2, 3)
+  ClassedMesh side_square;
+  side_square.vertices = {{3, 0, 0}, {3, 1, 0}, {3, 1, 1}, {3, 0, 1}};
+  add_quad(side_square, 0, 1, 2, 3);
+  const std::vector<ClassedMesh> meshes{labelled(ClassedMesh{}, ClassId::Terrain, "empty"),
+                                        labelled(floor_square, ClassId::Terrain, "floor"),
+                                        labelled(side_square, ClassId::Wall, "side")};
+  const TriangleScene scene(meshes);
+
+  // From above onto (0.8, 0.2), under triangle (0, 1, 2): x > y.
+  auto hit = scene.closest_hit({0.8f, 0.2f, 3}, {0, 0, -1}, 0, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 2.0, 1e-6);
+  EXPECT_EQ(hit.mesh, 1u);
+  EXPECT_EQ(hit.triangle, 0u);
+  EXPECT_NEAR(hit.normal.z(), 1.0, 1e-6);
+  // From below onto (0.2, 0.8), triangle (0, 2, 3): the normal faces down.
+  hit = scene.closest_hit({0.2f, 0.8f, -1}, {0, 0, 2}, 0, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 1.0, 1e-6);
+  EXPECT_EQ(hit.mesh, 1u);
+  EXPECT_EQ(hit.triangle, 1u);
+  EXPECT_NEAR(hit.normal.z(), -1.0, 1e-6);
+  // Sideways onto the x = 3 square, past the floor square's edge.
+  hit = scene.closest_hit({5, 0.5f, 0.5f}, {-1, 0, 0}, 0, 100);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 2.0, 1e-6);
+  EXPECT_EQ(hit.mesh, 2u);
+  EXPECT_NEAR(hit.normal.x(), 1.0, 1e-6);
+  EXPECT_NEAR(hit.normal.norm(), 1.0, 1e-6);
+  EXPECT_FALSE(scene.closest_hit({5, 0.5f, 0.5f}, {1, 0, 0}, 0, 100).hit);
+  EXPECT_THROW(scene.closest_hit({0, 0, std::nanf("")}, {0, 0, -1}, 0, 100), Error);
+}
+
 // The error's message, or "" when nothing is thrown.
 std::string build_error(const ClassedMesh& bad) {
   std::vector<ClassedMesh> meshes = wall_and_box();
