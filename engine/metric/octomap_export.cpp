@@ -6,27 +6,14 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/metric/octomap_keys.hpp"
 
 namespace sarmap::metric {
 
 namespace {
 
-constexpr int kTreeDepth = 16;
-constexpr std::int32_t kKeyOffset = 32768;  // OctoMap's tree_max_val
-
-// Interleaves 16-bit keys so that bits 3b..3b+2 hold child index
-// (x + 2y + 4z) at the level that splits on key bit b, as OctoMap's computeChildIdx.
-std::uint64_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-  std::uint64_t m = 0;
-  for (int b = 0; b < kTreeDepth; ++b) {
-    m |= std::uint64_t{(x >> b) & 1u} << (3 * b);
-    m |= std::uint64_t{(y >> b) & 1u} << (3 * b + 1);
-    m |= std::uint64_t{(z >> b) & 1u} << (3 * b + 2);
-  }
-  return m;
-}
+using octomap_keys::kTreeDepth;
 
 // Entries are (morton << 1) | occupied, sorted, so every subtree is a range.
 class TreeWriter {
@@ -83,28 +70,13 @@ class TreeWriter {
 std::string octomap_binary(const MetricMap& map, std::size_t* node_count) {
   std::vector<std::uint64_t> leaves;
   const OccupancyModel& occ = map.occupancy();
-  const char* axis_name[3] = {"x", "y", "z"};
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
     for (int l = 0; l < kBlockVoxels; ++l) {
       const SemanticVoxel& v = block.voxels[l];
       if (!v.known()) continue;
-      const VoxelKey k = voxel_of(bk, l);
-      const std::int32_t c[3] = {k.x, k.y, k.z};
-      for (int a = 0; a < 3; ++a) {
-        if (c[a] < -kKeyOffset || c[a] >= kKeyOffset) {
-          std::ostringstream msg;
-          msg << ".bt export: the map reaches voxel index " << c[a] << " on " << axis_name[a]
-              << " (" << (c[a] + 0.5) * map.resolution() << " m); OctoMap's 16-bit keys hold voxel indices [-32768, 32767], "
-              << "i.e. +-" << kKeyOffset * map.resolution() << " m at resolution " << map.resolution()
-              << " m; export a smaller map or use a coarser resolution";
-          throw Error(ErrorCode::OutOfRange, msg.str());
-        }
-      }
+      const std::uint64_t code = octomap_keys::morton_of(voxel_of(bk, l), map.resolution(), ".bt");
       const bool occupied = occ.state(v.log_odds) == VoxelState::Occupied;
-      leaves.push_back(morton(static_cast<std::uint32_t>(k.x + kKeyOffset), static_cast<std::uint32_t>(k.y + kKeyOffset),
-                              static_cast<std::uint32_t>(k.z + kKeyOffset))
-                           << 1 |
-                       (occupied ? 1u : 0u));
+      leaves.push_back(code << 1 | (occupied ? 1u : 0u));
     }
   });
   std::sort(leaves.begin(), leaves.end());

@@ -9,6 +9,7 @@
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_color_export.hpp"
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
@@ -32,9 +33,9 @@ nlohmann::ordered_json input_record(const fs::path& input) {
 
 const std::vector<std::string>& run_output_names() {
   static const std::vector<std::string> names{
-      "map.sarmap",   "map.bt",       "voxels.ply",    "semantic_points.ply", "segments.json",
-      "segments.ply", "graph.json",   "graph.graphml", "graph.ply",           "grid.pgm",
-      "grid.yaml",    "profile.json", "summary.json"};
+      "map.sarmap",    "map.bt",       "map.ot",       "voxels.ply",    "semantic_points.ply",
+      "segments.json", "segments.ply", "graph.json",   "graph.graphml", "graph.ply",
+      "grid.pgm",      "grid.yaml",    "profile.json", "summary.json"};
   return names;
 }
 
@@ -42,6 +43,7 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   const metric::MetricMap& map = mapper.metric_map();
   metric::save_map(map, folder.path_of("map.sarmap"));
   metric::write_octomap_bt(map, folder.path_of("map.bt"));
+  metric::write_octomap_ot(map, folder.path_of("map.ot"));
   metric::write_voxel_cloud(map, folder.path_of("voxels.ply"));
   std::vector<std::string> outputs = run_output_names();
   if (record.voxel_cubes) {

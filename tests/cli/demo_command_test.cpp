@@ -51,9 +51,9 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_NE(r.out.find((out_ / "run").string()), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(out_ / "sequence" / "sequence.json"));
   EXPECT_TRUE(fs::exists(out_ / "sequence.stamp"));
-  for (const char* f :
-       {"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply", "segments.json", "segments.ply", "graph.json",
-        "graph.graphml", "graph.ply", "grid.pgm", "grid.yaml", "manifest.json", "profile.json", "summary.json"}) {
+  for (const char* f : {"map.sarmap", "map.bt", "map.ot", "voxels.ply", "semantic_points.ply",
+                        "segments.json", "segments.ply", "graph.json", "graph.graphml", "graph.ply",
+                        "grid.pgm", "grid.yaml", "manifest.json", "profile.json", "summary.json"}) {
     EXPECT_TRUE(fs::exists(out_ / "run" / f)) << f;
   }
   const auto eval = nlohmann::json::parse(test::read_all(out_ / "eval.json"));

@@ -18,6 +18,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_color_export.hpp"
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/metric/voxel_cloud.hpp"
@@ -226,6 +227,23 @@ TEST(CliMapConvert, BtIsTheOctomapExportOfTheMap) {
   EXPECT_EQ(bt, metric::octomap_binary(map));
 }
 
+TEST(CliMapConvert, OtIsTheColourTreeExportOfTheMap) {
+  test::ScratchFolder dir;
+  const metric::MetricMap map = room_map();
+  metric::save_map(map, dir / "map.sarmap");
+  const auto r =
+      run_cli("convert " + quoted((dir / "map.sarmap").string()) + " " + quoted((dir / "map.ot").string()),
+              dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out,
+              HasSubstr("OctoMap colour tree of " + std::to_string(map.counts().known) + " known voxels"));
+  const std::string ot = bytes_of(dir / "map.ot");
+  EXPECT_EQ(ot.rfind("# Octomap OcTree file\n", 0), 0u);
+  EXPECT_THAT(ot, HasSubstr("\nid ColorOcTree\n"));
+  // The writer tests/metric/octomap_color_export_test.cpp loads with liboctomap, byte for byte.
+  EXPECT_EQ(ot, metric::octomap_color_tree(map));
+}
+
 TEST(CliMapConvert, VoxelCubesWriteEightCornersAndSixFacesPerVoxel) {
   test::ScratchFolder dir;
   const metric::MetricMap map = room_map();
@@ -257,9 +275,14 @@ TEST(CliMapConvert, RefusesWhatAMapCannotBecome) {
     std::string args;
     const char* says;
   } cases[] = {
-      {"convert " + in + " " + quoted((dir / "out.xyz").string()), "converts to a .ply or .pcd cloud or an OctoMap .bt"},
-      {"convert --voxel-cubes " + in + " " + quoted((dir / "out.pcd").string()), "--voxel-cubes writes a .ply mesh"},
-      {"convert --ascii " + in + " " + quoted((dir / "out.bt").string()), "--ascii applies to .ply / .pcd clouds"},
+      {"convert " + in + " " + quoted((dir / "out.xyz").string()),
+       "converts to a .ply or .pcd cloud or an OctoMap .bt or .ot"},
+      {"convert --voxel-cubes " + in + " " + quoted((dir / "out.pcd").string()),
+       "--voxel-cubes writes a .ply mesh"},
+      {"convert --ascii " + in + " " + quoted((dir / "out.bt").string()),
+       "--ascii applies to .ply / .pcd clouds"},
+      {"convert --ascii " + in + " " + quoted((dir / "out.ot").string()),
+       "--ascii applies to .ply / .pcd clouds"},
       {"convert --voxel 0.2 " + in + " " + quoted((dir / "out.ply").string()), "--voxel thins point clouds"},
       {"convert --voxel-cubes " + quoted(kTinyFrame) + " " + quoted((dir / "out.ply").string()),
        "--voxel-cubes needs a metric map"},
@@ -270,7 +293,8 @@ TEST(CliMapConvert, RefusesWhatAMapCannotBecome) {
     EXPECT_EQ(r.err.rfind("sarmap: error: ", 0), 0u) << r.err;
     EXPECT_THAT(r.err, HasSubstr(c.says)) << c.args;
   }
-  for (const char* name : {"out.xyz", "out.pcd", "out.bt", "out.ply"}) EXPECT_FALSE(std::filesystem::exists(dir / name));
+  for (const char* name : {"out.xyz", "out.pcd", "out.bt", "out.ot", "out.ply"})
+    EXPECT_FALSE(std::filesystem::exists(dir / name));
 }
 
 TEST(CliMapConvert, ADamagedMapIsRefusedAndNothingWritten) {
@@ -279,7 +303,7 @@ TEST(CliMapConvert, ADamagedMapIsRefusedAndNothingWritten) {
   const std::string bytes = bytes_of(dir / "map.sarmap");
   write_bytes(dir / "cut.sarmap", bytes.substr(0, bytes.size() - 100));
   const std::string path = (dir / "cut.sarmap").string();
-  for (const char* out : {"v.ply", "map.bt"}) {
+  for (const char* out : {"v.ply", "map.bt", "map.ot"}) {
     const auto r = run_cli("convert " + quoted(path) + " " + quoted((dir / out).string()), dir.path());
     EXPECT_EQ(r.exit_code, 1) << out;
     EXPECT_THAT(r.err, HasSubstr(path)) << out;

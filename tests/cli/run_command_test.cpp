@@ -19,6 +19,7 @@
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_color_export.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/png_test_writer.hpp"
 
@@ -61,6 +62,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
   EXPECT_DOUBLE_EQ(map.resolution(), 0.1);
   EXPECT_GT(map.counts().occupied, 0u);
   EXPECT_EQ(test::read_all(out / "map.bt").rfind("# Octomap OcTree binary file", 0), 0u);
+  EXPECT_EQ(test::read_all(out / "map.ot"), metric::octomap_color_tree(map));
   EXPECT_EQ(read_point_cloud(out / "voxels.ply").size(), map.counts().occupied);
   const PointBuffer semantic = read_point_cloud(out / "semantic_points.ply");
   EXPECT_TRUE(semantic.has_labels());
@@ -82,7 +84,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
     EXPECT_EQ(output.at("sha256").get<std::string>(), sha256_hex(test::read_all(out / name))) << name;
   }
   EXPECT_EQ(listed,
-            (std::vector<std::string>{"map.sarmap", "map.bt", "voxels.ply", "semantic_points.ply",
+            (std::vector<std::string>{"map.sarmap", "map.bt", "map.ot", "voxels.ply", "semantic_points.ply",
                                       "segments.json", "segments.ply", "graph.json", "graph.graphml",
                                       "graph.ply", "grid.pgm", "grid.yaml", "profile.json", "summary.json"}));
   EXPECT_NO_THROW(verify_run_folder(out));
@@ -201,7 +203,7 @@ TEST_F(RunCommand, VoxelCubesAreWrittenAndListedOnlyWhenAsked) {
     EXPECT_EQ(fs::exists(out / "voxel_cubes.ply"), cubes);
     EXPECT_EQ(std::find(listed.begin(), listed.end(), "voxel_cubes.ply") != listed.end(), cubes);
     if (!cubes) continue;
-    EXPECT_EQ(listed[3], "voxel_cubes.ply");  // after map.sarmap, map.bt, voxels.ply
+    EXPECT_EQ(listed[4], "voxel_cubes.ply");  // after map.sarmap, map.bt, map.ot, voxels.ply
     const std::size_t occupied = metric::load_map(out / "map.sarmap").counts().occupied;
     ASSERT_GT(occupied, 0u);
     EXPECT_EQ(read_point_cloud(out / "voxel_cubes.ply").size(), 8 * occupied);

@@ -30,9 +30,10 @@ using test::quoted;
 using test::read_all;
 using test::run_cli;
 
-const std::vector<std::string> kCompared = {"map.sarmap",    "map.bt",        "voxels.ply", "semantic_points.ply",
-                                            "segments.json", "segments.ply",  "graph.json", "graph.graphml",
-                                            "graph.ply",     "grid.pgm",      "grid.yaml"};
+const std::vector<std::string> kCompared = {
+    "map.sarmap",          "map.bt",        "map.ot",       "voxels.ply",
+    "semantic_points.ply", "segments.json", "segments.ply", "graph.json",
+    "graph.graphml",       "graph.ply",     "grid.pgm",     "grid.yaml"};
 
 class RunResume : public ::testing::Test {
  protected:

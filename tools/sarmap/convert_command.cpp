@@ -3,7 +3,8 @@
 // or into a sarmap sequence folder. --voxel SIZE keeps only the first point
 // that falls in each cube of that size, to thin merged clouds. A metric map
 // (map.sarmap) converts to its occupied voxels as a cloud (.ply / .pcd, as
-// voxels.ply), as cubes (--voxel-cubes, .ply) or to an OctoMap tree (.bt).
+// voxels.ply), as cubes (--voxel-cubes, .ply) or to an OctoMap tree (.bt,
+// or .ot: a ColorOcTree with log-odds and class colours).
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -21,10 +22,11 @@
 #include "engine/io/scan_source.hpp"
 #include "engine/io/sequence_writer.hpp"
 #include "engine/metric/map_file.hpp"
+#include "engine/metric/octomap_color_export.hpp"
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
-#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
 
@@ -92,21 +94,23 @@ bool is_cloud_path(const std::filesystem::path& path) {
 }
 
 // The occupied voxels of a map.sarmap, written by the same code as sarmap
-// run's voxels.ply and map.bt.
+// run's voxels.ply, map.bt and map.ot.
 void convert_map(const ConvertArgs& a) {
   const std::filesystem::path out(a.out);
   const bool bt = has_extension(out, ".bt");
+  const bool ot = has_extension(out, ".ot");
   if (a.voxel > 0) {
     throw Error(ErrorCode::InvalidArgument,
                 "convert: --voxel thins point clouds; a metric map's voxels are its own (see sarmap run --voxel)");
   }
-  if (a.voxel_cubes ? !has_extension(out, ".ply") : !(bt || is_cloud_path(out))) {
+  if (a.voxel_cubes ? !has_extension(out, ".ply") : !(bt || ot || is_cloud_path(out))) {
     throw Error(ErrorCode::InvalidArgument,
                 "convert: " + a.out +
-                    (a.voxel_cubes ? ": --voxel-cubes writes a .ply mesh"
-                                   : ": a metric map converts to a .ply or .pcd cloud or an OctoMap .bt file"));
+                    (a.voxel_cubes
+                         ? ": --voxel-cubes writes a .ply mesh"
+                         : ": a metric map converts to a .ply or .pcd cloud or an OctoMap .bt or .ot file"));
   }
-  if (a.ascii && (bt || a.voxel_cubes)) {
+  if (a.ascii && (bt || ot || a.voxel_cubes)) {
     throw Error(ErrorCode::InvalidArgument, "convert: --ascii applies to .ply / .pcd clouds only");
   }
   const metric::MetricMap map = metric::load_map(a.in);
@@ -114,6 +118,9 @@ void convert_map(const ConvertArgs& a) {
   if (bt) {
     metric::write_octomap_bt(map, out);
     if (!a.quiet) std::printf("%s: OctoMap tree of %zu known voxels\n", a.out.c_str(), counts.known);
+  } else if (ot) {
+    metric::write_octomap_ot(map, out);
+    if (!a.quiet) std::printf("%s: OctoMap colour tree of %zu known voxels\n", a.out.c_str(), counts.known);
   } else if (a.voxel_cubes) {
     metric::write_voxel_cubes(map, out);
     if (!a.quiet) std::printf("%s: %zu occupied voxels as cubes\n", a.out.c_str(), counts.occupied);
@@ -195,11 +202,13 @@ void add_convert_command(CLI::App& app) {
       "convert",
       "Convert PLY <-> PCD, a scan sequence into one merged cloud (OUT.ply / OUT.pcd) or a sarmap "
       "sequence folder (OUT without extension), or a metric map (map.sarmap) into its occupied voxels "
-      "(OUT.ply / OUT.pcd, cubes with --voxel-cubes) or an OctoMap tree (OUT.bt)");
+      "(OUT.ply / OUT.pcd, cubes with --voxel-cubes) or an OctoMap tree (OUT.bt, or OUT.ot in class "
+      "colours)");
   cmd->add_option("in", args->in,
                   "PLY / PCD file, sequence folder (sarmap, TUM RGB-D, 7-Scenes) or metric map (.sarmap)")
       ->required();
-  cmd->add_option("out", args->out, "Output .ply / .pcd file, .bt (from a map), or a folder for a sarmap sequence")
+  cmd->add_option("out", args->out,
+                  "Output .ply / .pcd file, .bt / .ot (from a map), or a folder for a sarmap sequence")
       ->required();
   cmd->add_flag("--ascii", args->ascii, "Write ASCII PLY / PCD instead of binary");
   cmd->add_option("--voxel", args->voxel, "Keep only the first point in each voxel of this size (metres)")

@@ -139,8 +139,9 @@ void run_demo(const DemoArgs& a) {
   std::printf("eval      %.1f s; figures in %s (sarmap eval --json), headline figures in %s\n", eval_s,
               (out / "eval.json").string().c_str(), (run_dir / "summary.json").string().c_str());
   std::printf(
-      "outputs   %s: map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.json, segments.ply, graph.json, "
-      "graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, summary.json\n",
+      "outputs   %s: map.sarmap, map.bt, map.ot, voxels.ply, semantic_points.ply, segments.json, "
+      "segments.ply, graph.json, graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, "
+      "summary.json\n",
       run_dir.string().c_str());
   std::printf("total     %.1f s\n", seconds_since(start));
 }

@@ -1,7 +1,7 @@
 // `sarmap run INPUT --out DIR [--classifier dgcnn|geometric|labels] [--model M]`:
 // builds the maps scan by scan through the pipeline's Mapper and writes every output through
-// pipeline::write_run (map.sarmap, map.bt, voxels.ply, semantic_points.ply, segments.*, graph.*, grid.*,
-// profile.json, summary.json, then manifest.json; docs/formats.md), each atomically.
+// pipeline::write_run (map.sarmap, map.bt, map.ot, voxels.ply, semantic_points.ply, segments.*, graph.*,
+// grid.*, profile.json, summary.json, then manifest.json; docs/formats.md), each atomically.
 #include <unistd.h>
 
 #include <algorithm>
