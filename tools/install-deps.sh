@@ -20,6 +20,9 @@ packages=(
   # fuzzing only (fuzz/, tools/fuzz.sh, the CI fuzz job): clang and its
   # libFuzzer runtime; GCC has no libFuzzer
   clang-14 libclang-rt-14-dev
+  # the browser viewer (`sarmap view`): Node.js runs npm and esbuild (web/),
+  # and its test drives Debian's Chromium (tests/viewer/)
+  nodejs chromium
 )
 
 # Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by
@@ -39,8 +42,27 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# The viewer's npm packages (three, esbuild, playwright-core), pinned by
+# web/package-lock.json into web/node_modules; never kept in the repository.
+install_npm_packages() {
+  local web
+  web="$(cd "$(dirname "$0")/.." && pwd)/web"
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "install-deps: npm not found; installing Debian's npm"
+    $SUDO apt-get install -y --no-install-recommends npm
+  fi
+  if [[ -f "$web/node_modules/.package-lock.json" && "$web/node_modules/.package-lock.json" -nt "$web/package-lock.json" ]]; then
+    echo "install-deps: web/node_modules is up to date"
+    return
+  fi
+  echo "install-deps: npm ci in web/"
+  (cd "$web" && npm ci --no-audit --no-fund)
+}
+
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "install-deps: all ${#packages[@]} packages already installed"
+  SUDO=$([[ $(id -u) -ne 0 ]] && echo sudo || true)
+  install_npm_packages
   exit 0
 fi
 
@@ -60,3 +82,4 @@ echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+install_npm_packages
