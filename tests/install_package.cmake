@@ -5,7 +5,8 @@
 # does), and the second half checks that: with share/sarmap/ moved away its
 # errors name the prefix and not the source tree's datasets/, and
 # SARMAP_DATA_DIR points it at the moved folder. Also checks that the install
-# holds the package and no test, benchmark or fixture files.
+# holds the package and no test, benchmark or fixture files, and that the
+# installed binary finds the viewer's script in the prefix.
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 file(REAL_PATH ${WORK_DIR} WORK_DIR)  # /proc/self/exe gives the binary's real path
@@ -18,7 +19,8 @@ if(NOT rc EQUAL 0)
 endif()
 
 # What the prefix holds: the binary, the static libraries, the CMake package,
-# the headers, the model and the arenas; nothing else.
+# the headers, the model and the arenas (and the viewer's script when the
+# build bundled it); nothing else.
 foreach(f bin/sarmap lib/libsarmap_core.a lib/cmake/sarmap/sarmapConfig.cmake
     include/sarmap/engine/core/version.hpp include/sarmap/engine/pipeline/mapper.hpp
     share/sarmap/models/ramps-dgcnn.safetensors share/sarmap/arenas/esogu-6x4.json
@@ -29,7 +31,7 @@ foreach(f bin/sarmap lib/libsarmap_core.a lib/cmake/sarmap/sarmapConfig.cmake
 endforeach()
 file(GLOB_RECURSE installed RELATIVE ${prefix} ${prefix}/*)
 foreach(f ${installed})
-  if(NOT f MATCHES "^(bin/sarmap|lib/libsarmap_[a-z]+\\.a|lib/cmake/sarmap/[A-Za-z-]+\\.cmake|include/sarmap/(engine|kernels)/.*\\.hpp|share/sarmap/(models/ramps-dgcnn\\.safetensors|arenas/[a-z0-9-]+\\.json|arenas/meshes/.*))$")
+  if(NOT f MATCHES "^(bin/sarmap|lib/libsarmap_[a-z]+\\.a|lib/cmake/sarmap/[A-Za-z-]+\\.cmake|include/sarmap/(engine|kernels)/.*\\.hpp|share/sarmap/(models/ramps-dgcnn\\.safetensors|arenas/[a-z0-9-]+\\.json|arenas/meshes/.*|viewer\\.js))$")
     message(FATAL_ERROR "the install holds ${f}, which is no part of the package")
   endif()
 endforeach()
@@ -71,6 +73,19 @@ if(at EQUAL -1)
   message(FATAL_ERROR "the demo did not use the installed default arena:\n${out}")
 endif()
 message(STATUS "${out}")
+
+# The viewer's script, when the build bundled it (web/node_modules was
+# installed): `view` finds it in the prefix and writes the demo's page.
+if(EXISTS ${SARMAP_BUILD_DIR}/share/sarmap/viewer.js)
+  if(NOT EXISTS ${data}/viewer.js)
+    message(FATAL_ERROR "the install lacks share/sarmap/viewer.js, which the build bundled")
+  endif()
+  run_installed(view ${WORK_DIR}/demo/run --quiet)
+  expect_success("sarmap view from the prefix")
+  if(NOT EXISTS ${WORK_DIR}/demo/run/view.html)
+    message(FATAL_ERROR "sarmap view from the prefix wrote no view.html")
+  endif()
+endif()
 
 # A short run with the shipped model.
 run_installed(simulate ${data}/arenas/esogu-6x4.json --out ${WORK_DIR}/sequence --frames 3 --quiet)

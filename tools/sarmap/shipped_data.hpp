@@ -1,6 +1,7 @@
 // Files that ship with sarmap and that commands use by default: the built-in
-// default arena and the trained ramp model. An installed binary finds them in
-// the prefix's share/sarmap/ (beside its own bin/), so it needs no source tree.
+// default arena, the trained ramp model and the browser viewer's script. An
+// installed binary finds them in the prefix's share/sarmap/ (beside its own
+// bin/), so it needs no source tree.
 #pragma once
 
 #include <filesystem>
@@ -27,5 +28,10 @@ std::filesystem::path shipped_default_arena();
 // models/ramps-dgcnn.safetensors (`run --classifier dgcnn` without --model),
 // found and reported as shipped_default_arena is.
 std::filesystem::path shipped_ramp_model();
+// viewer.js, the browser viewer's script that `sarmap view` inlines, bundled
+// by the build from web/viewer/ (web/CMakeLists.txt). The build-tree binary
+// finds it in the build tree's share/sarmap/; otherwise found and reported as
+// shipped_default_arena is, with how to build it when it is missing.
+std::filesystem::path shipped_viewer_bundle();
 
 }  // namespace sarmap::cli
