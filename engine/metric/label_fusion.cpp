@@ -34,24 +34,29 @@ LabelFusion::LabelFusion(const LabelFusionSettings& s) : settings_(s) {
 }
 
 void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) const {
-  if (obs.points == 0) return;
+  // A point labelled unknown says nothing about the voxel's class (a block
+  // too sparse to classify, or one the map-level classifier has not reached
+  // yet): only the others count.
+  const std::uint32_t unknown = std::min<std::uint32_t>(obs.counts[0], obs.points);
+  const std::uint32_t classified = obs.points - unknown;
+  if (classified == 0) return;
   if (settings_.fusion == ClassFusion::Histogram) {
     int needed = 0;
-    for (std::size_t c = 0; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
+    for (std::size_t c = 1; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
     // Counts saturate by halving every class, which keeps their ratios.
     while (needed > 32767) {
       for (auto& e : evidence) e = static_cast<std::int16_t>(e / 2);
       needed = 0;
-      for (std::size_t c = 0; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
+      for (std::size_t c = 1; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
     }
-    for (std::size_t c = 0; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(evidence[c] + obs.counts[c]);
+    for (std::size_t c = 1; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(evidence[c] + obs.counts[c]);
     return;
   }
   // Bayesian: p(c | z) from the mean of the points' distributions; each class
   // gains log p(c|z) - log p(pivot|z), the pivot being class 0.
   if (!obs.has_scores) {
-    for (std::size_t l = 0; l < kClassCount; ++l) {
-      if (obs.counts[l] != obs.points) continue;
+    for (std::size_t l = 1; l < kClassCount; ++l) {
+      if (obs.counts[l] != classified) continue;
       for (std::size_t c = 1; c < kClassCount; ++c) {
         evidence[c] = static_cast<std::int16_t>(std::clamp(evidence[c] + unanimous_[l][c], -clamp_, clamp_));
       }
@@ -59,7 +64,7 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
     }
   }
   std::array<double, kClassCount> p{};
-  const double n = obs.points;
+  const double n = classified;
   if (obs.has_scores) {
     double total = 0;
     for (std::size_t c = 0; c < kClassCount; ++c) {
@@ -70,7 +75,10 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
   } else {
     const double conf = settings_.label_confidence;
     const double rest = (1.0 - conf) / (kClassCount - 1);
-    for (std::size_t c = 0; c < kClassCount; ++c) p[c] = (obs.counts[c] * conf + (n - obs.counts[c]) * rest) / n;
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      const double count = c == 0 ? 0.0 : obs.counts[c];
+      p[c] = (count * conf + (n - count) * rest) / n;
+    }
   }
   const double log_pivot = std::log(p[0]);
   for (std::size_t c = 1; c < kClassCount; ++c) {

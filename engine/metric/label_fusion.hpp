@@ -61,7 +61,9 @@ class LabelFusion {
   explicit LabelFusion(const LabelFusionSettings& settings = {});
 
   const LabelFusionSettings& settings() const { return settings_; }
-  // One update per voxel per scan, with everything its points said.
+  // One update per voxel per scan, with everything its points said; points
+  // labelled unknown say nothing, and a voxel that only they hit keeps its
+  // evidence.
   void observe(ClassEvidence& evidence, const ClassObservation& observation) const;
   // A miss that leaves the voxel free: evidence shrinks towards none.
   // Inline: called for every free voxel of every scan.

@@ -96,7 +96,7 @@ namespace {
 
 TEST(LabelFusion, UnanimousShortcutMatchesTheGeneralFormula) {
   const LabelFusion f;
-  for (int l = 0; l < 6; ++l) {
+  for (int l = 1; l < 6; ++l) {
     ClassEvidence fast{}, general{};
     f.observe(fast, hard(static_cast<ClassId>(l), 3));
     // Same distribution through the general path: a mixed observation whose
@@ -107,6 +107,30 @@ TEST(LabelFusion, UnanimousShortcutMatchesTheGeneralFormula) {
     for (int c = 0; c < 6; ++c) o.score_sums[c] = 3.0f * (c == l ? 0.9f : 0.02f);
     f.observe(general, o);
     for (int c = 0; c < 6; ++c) EXPECT_NEAR(fast[c], general[c], 1) << l << " " << c;
+  }
+}
+
+// Unknown labels come from blocks too sparse to classify or not classified
+// yet: they must neither pull a voxel towards no class nor dilute the others.
+TEST(LabelFusion, PointsLabelledUnknownSayNothing) {
+  for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
+    LabelFusionSettings s;
+    s.fusion = fusion;
+    const LabelFusion f(s);
+    ClassEvidence evidence{};
+    f.observe(evidence, hard(ClassId::Wall, 2));
+    const ClassEvidence before = evidence;
+    f.observe(evidence, hard(ClassId::Unknown, 7));
+    EXPECT_EQ(evidence, before) << to_string(fusion);
+    // Mixed: 2 ramp and 1 wall points among 5 unknown ones count as 2 ramp and 1 wall.
+    ClassObservation mixed = hard(ClassId::Unknown, 5), plain = hard(ClassId::InclinedRamp, 2);
+    plain.add(hard(ClassId::Wall, 1));
+    mixed.add(plain);
+    ClassEvidence with_unknown = before, without = before;
+    f.observe(with_unknown, mixed);
+    f.observe(without, plain);
+    EXPECT_EQ(with_unknown, without) << to_string(fusion);
+    EXPECT_NE(without, before);
   }
 }
 
