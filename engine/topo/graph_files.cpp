@@ -227,4 +227,46 @@ std::string route_json(const Route& r) {
 
 void write_route_json(const std::filesystem::path& path, const Route& route) { write_text(path, route_json(route)); }
 
+Route read_route_json(const std::filesystem::path& path) {
+  const Json j = json_fields::read_file(path);
+  const std::string where = "top level";
+  Route r;
+  const Json& found = member(j, "found", path, where);
+  if (!found.is_boolean()) fail(path, where, "\"found\" is not true or false");
+  r.found = found.get<bool>();
+  if (!r.found) {
+    const Json& reason = member(j, "reason", path, where);
+    if (!reason.is_string()) fail(path, where, "\"reason\" is not a string");
+    r.reason = reason.get<std::string>();
+  }
+  const Json& graph = member(j, "graph", path, where);
+  const auto g = graph.is_string() ? route_graph_from(graph.get<std::string>()) : std::nullopt;
+  if (!g) fail(path, where, "\"graph\" is not tree, roadmap or grid");
+  r.graph = *g;
+  const Json& algorithm = member(j, "algorithm", path, where);
+  if (!algorithm.is_string()) fail(path, where, "\"algorithm\" is not a string");
+  const std::string name = algorithm.get<std::string>();
+  const auto search = route_search_from(name);
+  if (r.graph == RouteGraph::Grid ? name != "wavefront" : !search) {
+    fail(path, where, "\"algorithm\" is not dijkstra or astar (wavefront on the grid)");
+  }
+  if (search) r.search = *search;
+  r.length = number(j, "length", path, where);
+  const Json& points = member(j, "points", path, where);
+  if (!points.is_array()) fail(path, where, "\"points\" is not an array");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = json_fields::vector3(points[i], "points[" + std::to_string(i) + "]", path, where);
+    if (!p.allFinite()) fail(path, where, "\"points[" + std::to_string(i) + "]\" is not finite");
+    r.points.push_back(p);
+  }
+  if (r.graph != RouteGraph::Grid) {
+    const Json& nodes = member(j, "nodes", path, where);
+    if (!nodes.is_array()) fail(path, where, "\"nodes\" is not an array");
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      r.nodes.push_back(id_of(Json{{"id", nodes[i]}}, "id", path, "nodes[" + std::to_string(i) + "]"));
+    }
+  }
+  return r;
+}
+
 }  // namespace sarmap::topo

@@ -35,5 +35,8 @@ GraphFile read_graph_json(const std::filesystem::path& path);
 
 std::string route_json(const Route& route);
 void write_route_json(const std::filesystem::path& path, const Route& route);
+// Reads what write_route_json wrote (`sarmap render` draws its points).
+// Throws sarmap::Error (Io, Parse, InvalidData) naming the file and the key.
+Route read_route_json(const std::filesystem::path& path);
 
 }  // namespace sarmap::topo

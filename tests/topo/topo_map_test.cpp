@@ -277,6 +277,44 @@ TEST(RouteJson, FoundAndNotFound) {
   EXPECT_EQ(j.find("\"nodes\""), std::string::npos);
 }
 
+TEST(RouteJson, ReadsBackWhatWasWritten) {
+  test::ScratchFolder dir;
+  Route r;
+  r.found = true;
+  r.graph = RouteGraph::Roadmap;
+  r.search = RouteSearch::AStar;
+  r.length = 2.5;
+  r.points = {{0.5, 0.5, 0}, {1.5, 0.5, 0.25}, {2.5, 1, 0.3}};
+  r.nodes = {4, 9};
+  write_route_json(dir / "path.json", r);
+  const Route back = read_route_json(dir / "path.json");
+  EXPECT_TRUE(back.found);
+  EXPECT_EQ(back.graph, RouteGraph::Roadmap);
+  EXPECT_EQ(back.search, RouteSearch::AStar);
+  EXPECT_DOUBLE_EQ(back.length, 2.5);
+  ASSERT_EQ(back.points.size(), 3u);
+  EXPECT_EQ(back.points[2], r.points[2]);
+  EXPECT_EQ(back.nodes, r.nodes);
+
+  Route none;
+  none.reason = "unreachable";
+  none.graph = RouteGraph::Grid;
+  write_route_json(dir / "none.json", none);
+  const Route none_back = read_route_json(dir / "none.json");
+  EXPECT_FALSE(none_back.found);
+  EXPECT_EQ(none_back.reason, "unreachable");
+  EXPECT_EQ(none_back.graph, RouteGraph::Grid);
+  EXPECT_TRUE(none_back.points.empty());
+
+  try {
+    read_route_json(dir.write("bad.json", R"({"found": true, "graph": "tree", "algorithm": "dijkstra", "length": 1, "points": [[0, 0]], "nodes": []})"));
+    FAIL() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("points[0]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_route_json(dir.write("grid.json", R"({"found": false, "reason": "x", "graph": "grid", "algorithm": "astar", "length": 0, "points": []})")), Error);
+}
+
 }  // namespace
 }  // namespace sarmap::topo
 
