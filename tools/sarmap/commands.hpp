@@ -16,6 +16,7 @@ void add_run_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_classify_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
+void add_render_command(CLI::App& app);
 void add_view_command(CLI::App& app);
 
 }  // namespace sarmap::cli

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   sarmap::cli::add_demo_command(app);
   sarmap::cli::add_classify_command(app);
   sarmap::cli::add_plan_command(app);
+  sarmap::cli::add_render_command(app);
   sarmap::cli::add_view_command(app);
 
   try {

@@ -10,17 +10,13 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/io/run_folder.hpp"
-#include "engine/metric/map_file.hpp"
-#include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/route_planner.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/run_route.hpp"
 
 namespace sarmap::cli {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct PlanArgs {
   std::string run;
@@ -62,21 +58,7 @@ void run_plan(const PlanArgs& a) {
   if (!search) throw Error(ErrorCode::InvalidArgument, "plan: --algorithm must be dijkstra or astar");
   const Eigen::Vector3d from = parse_point(a.from, "--from");
   const Eigen::Vector3d to = parse_point(a.to, "--to");
-  const fs::path run = a.run;
-  verify_run_folder(run);  // a half-written or mixed folder is refused
-  for (const char* name : {"graph.json", "segments.json", "map.sarmap"}) {
-    if (!fs::is_regular_file(run / name)) {
-      throw Error(ErrorCode::Io, (run / name).string() + " not found (plan needs a folder written by sarmap run)");
-    }
-  }
-  topo::GraphFile graph_file = topo::read_graph_json(run / "graph.json");
-  const segments::SegmentsFile segments_file = segments::read_segments_json(run / "segments.json");
-  std::vector<const segments::Segment*> segments;
-  for (const segments::Segment& s : segments_file.segments) segments.push_back(&s);
-  const metric::MetricMap map = metric::load_map(run / "map.sarmap");
-  const topo::TopoMap topo = topo::TopoMap::restore(graph_file.settings, std::move(graph_file.nodes),
-                                                    std::move(graph_file.edges), segments, map);
-  const topo::Route route = topo::plan_route(topo, from, to, *graph, *search);
+  const topo::Route route = plan_on_run(a.run, from, to, *graph, *search);
   if (!a.out.empty()) topo::write_route_json(a.out, route);
   if (a.quiet) return;
   if (!route.found) {
