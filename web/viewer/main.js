@@ -100,6 +100,14 @@ function start() {
     return { x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height };
   };
 
+  // The picked item's place, drawn over everything so it shows inside a wall of cubes too.
+  const marker = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(1, 1, 1)),
+    new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }));
+  marker.renderOrder = 1;
+  marker.visible = false;
+  marker.scale.setScalar(Math.max(0.08, 1.5 * ((data.layers.voxels && data.layers.voxels.size) || 0.05)));
+  scene.add(marker);
+
   // The nearest visible voxel, segment or node under the pointer.
   const raycaster = new THREE.Raycaster();
   api.pickAt = (x, y) => {
@@ -114,6 +122,9 @@ function start() {
     }
     api.selected = best ? best.layer.describe(best.layer.indexOfHit(best.hit)) : null;
     show(api.selected);
+    marker.visible = !!api.selected;
+    if (api.selected) marker.position.set(...api.selected.position);
+    render();
     return api.selected;
   };
   // A click, not the end of a drag, inspects.
