@@ -64,6 +64,23 @@ TEST_F(DemoCommand, RunsEveryStageAndPrintsASummary) {
   EXPECT_EQ(eval.at("arena_checked"), true);  // the sequence named its arena, and it is this one
 }
 
+// The pictures of `sarmap render` beside the run's outputs, outside its
+// manifest (the folder still verifies), and with snapshots the growth strip.
+TEST_F(DemoCommand, DrawsPicturesOfTheMaps) {
+  auto r = demo(" --snapshots 1,2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("pictures  "), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::is_regular_file(out_ / "run" / "render.png"));
+  EXPECT_TRUE(fs::is_regular_file(out_ / "run" / "growth.png"));
+  EXPECT_TRUE(fs::is_directory(out_ / "run" / "snap_0001"));
+  EXPECT_NO_THROW(verify_run_folder(out_ / "run"));
+  // Again without snapshots: no strip of snapshots that are gone.
+  r = demo();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(out_ / "run" / "render.png"));
+  EXPECT_FALSE(fs::exists(out_ / "run" / "growth.png"));
+}
+
 // The run's summary.json gains eval's headline figures, each as `sarmap eval
 // --json` gives it for the same run, and the run folder still verifies.
 TEST_F(DemoCommand, AddsEvalsFiguresToTheRunsSummary) {

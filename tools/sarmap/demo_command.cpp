@@ -1,18 +1,23 @@
 // `sarmap demo`: the whole pipeline on the built-in default arena in one
 // command: simulate it (cached), `sarmap run` on the sequence, `sarmap eval`
-// on the run (its headline figures added to the run's summary.json), then a
-// short summary of figures and where the outputs are.
+// on the run (its headline figures added to the run's summary.json), a route
+// between the arena's eval points and pictures of the maps (`sarmap render`),
+// then a short summary of figures and where the outputs are.
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "engine/core/error.hpp"
 #include "engine/eval/run_evaluation.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/pipeline/run_summary.hpp"
+#include "engine/render/png_file.hpp"
+#include "engine/render/run_pictures.hpp"
+#include "engine/topo/graph_files.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
 #include "tools/sarmap/number_checks.hpp"
@@ -20,6 +25,7 @@
 #include "tools/sarmap/demo_sequence_cache.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
+#include "tools/sarmap/run_route.hpp"
 #include "tools/sarmap/shipped_data.hpp"
 
 namespace sarmap::cli {
@@ -34,6 +40,7 @@ struct DemoArgs {
   int threads = 0;
   std::string classifier = "dgcnn";
   std::string model;  // empty: the shipped ramp model
+  std::vector<std::size_t> snapshots;  // as sarmap run's; also draws growth.png
   bool quiet = false;
 };
 
@@ -68,6 +75,31 @@ bool simulate_if_needed(const sim::Arena& arena, const fs::path& arena_file, con
   return true;
 }
 
+// The first of the arena's eval pairs with a route on the roadmap, written
+// as the run's path.json (as `sarmap plan --out` would) for its picture to
+// show; nothing when no pair has one.
+void write_demo_route(const sim::Arena& arena, const fs::path& run_dir) {
+  for (const auto& [from, to] : arena.eval_pairs) {
+    const topo::Route route = plan_on_run(run_dir, from, to, topo::RouteGraph::Roadmap, topo::RouteSearch::AStar);
+    if (!route.found) continue;
+    topo::write_route_json(run_dir / "path.json", route);
+    return;
+  }
+}
+
+// render.png (the maps in 3-D and from above, docs/formats.md) and, with
+// snapshots, growth.png; both beside the run's outputs, outside its manifest.
+void write_demo_pictures(const sim::Arena& arena, const fs::path& run_dir, bool growth) {
+  fs::remove(run_dir / "path.json");  // an earlier demo's, planned on another map
+  write_demo_route(arena, run_dir);
+  render::write_png(render::render_run_picture(render::read_run_contents(run_dir)), run_dir / "render.png");
+  if (growth) {
+    render::write_png(render::render_run_growth(run_dir), run_dir / "growth.png");
+  } else {
+    fs::remove(run_dir / "growth.png");  // an earlier demo's, of snapshots this run no longer has
+  }
+}
+
 void run_demo(const DemoArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path arena_file = a.arena.empty() ? shipped_default_arena() : fs::path(a.arena);
@@ -90,6 +122,7 @@ void run_demo(const DemoArgs& a) {
   run.threads = a.threads;
   run.classifier = a.classifier;
   run.model = a.model;
+  run.snapshots = a.snapshots;
   run.quiet = true;  // the demo prints its own summary
   const RunSummary summary = run_pipeline(run);
 
@@ -104,6 +137,10 @@ void run_demo(const DemoArgs& a) {
   // still verifies (docs/formats.md, "summary.json").
   pipeline::add_to_run_summary(run_dir, "eval", eval::summary_json(evaluation));
   const double eval_s = seconds_since(eval_start);
+
+  const auto pictures_start = std::chrono::steady_clock::now();
+  write_demo_pictures(arena, run_dir, !a.snapshots.empty());
+  const double pictures_s = seconds_since(pictures_start);
 
   std::printf("sequence  %s: %s in %.1f s\n", sequence.string().c_str(),
               simulated ? "simulated now" : "cached (stamp matches), simulation skipped", sim_s);
@@ -143,6 +180,9 @@ void run_demo(const DemoArgs& a) {
       "segments.ply, graph.json, graph.graphml, graph.ply, grid.pgm, grid.yaml, manifest.json, profile.json, "
       "summary.json\n",
       run_dir.string().c_str());
+  std::printf("pictures  %s%s%s in %.1f s (sarmap render)\n", (run_dir / "render.png").string().c_str(),
+              a.snapshots.empty() ? "" : ", ", a.snapshots.empty() ? "" : (run_dir / "growth.png").string().c_str(),
+              pictures_s);
   std::printf("total     %.1f s\n", seconds_since(start));
 }
 
@@ -163,6 +203,11 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--classifier", args->classifier, "dgcnn, geometric or labels (as for sarmap run)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "DGCNN weights instead of the shipped ramp model (ramps-dgcnn.safetensors in the data folder: README, Install)");
+  cmd->add_option("--snapshots", args->snapshots,
+                  "Also write the outputs after these numbers of scans (run/snap_NNNN/, as sarmap run's) and "
+                  "run/growth.png, the map growing")
+      ->delimiter(',')
+      ->check(finite_non_negative());
   cmd->add_flag("--quiet", args->quiet, "No progress lines; the summary is still printed");
   cmd->callback([args] { run_demo(*args); });
 }
