@@ -31,9 +31,10 @@ bool image_axes(const Eigen::Vector3f& forward, const Eigen::Vector3f& up, Eigen
 }
 
 // The oblique view's direction from the box's centre towards the eye: from
-// the south-west, about 40 degrees above the horizon, so walls show a face
-// and the floor between them stays visible.
-const Eigen::Vector3f kObliqueFromCentre = Eigen::Vector3f(-0.45f, -1.0f, 0.95f).normalized();
+// the south and a little west, about 45 degrees above the horizon, so the
+// box's x side spans the wide frame, walls show a face and the floor between
+// them stays visible.
+const Eigen::Vector3f kObliqueFromCentre = Eigen::Vector3f(-0.3f, -1.0f, 1.0f).normalized();
 constexpr float kObliqueFovDeg = 40.0f;
 constexpr float kFrameMargin = 1.04f;
 
