@@ -17,7 +17,7 @@ const std::string kData = SARMAP_TEST_DATA_DIR;
 
 TEST(Quiet, EverySubcommandTakesIt) {
   test::ScratchFolder scratch;
-  for (const char* command : {"demo", "run", "plan", "eval", "simulate", "classify", "info", "convert"}) {
+  for (const char* command : {"demo", "run", "plan", "eval", "simulate", "classify", "info", "convert", "view"}) {
     const auto r = run_cli(std::string(command) + " --help", scratch.path());
     EXPECT_EQ(r.exit_code, 0) << command << ": " << r.err;
     EXPECT_NE(r.out.find("--quiet"), std::string::npos) << command << ": " << r.out;

@@ -39,7 +39,8 @@ std::vector<unsigned char> from_base64(const std::string& text) {
   for (const char c : text) {
     const char* at = std::strchr("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/", c);
     if (c == '=' || at == nullptr) break;
-    word = (word << 6) | static_cast<std::uint32_t>(at - "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/");
+    word = (word << 6) | static_cast<std::uint32_t>(
+                             at - "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/");
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
@@ -82,7 +83,9 @@ class ViewCommand : public ::testing::Test {
   void SetUp() override { ::setenv("SARMAP_DATA_DIR", data_dir().c_str(), 1); }
   void TearDown() override { ::unsetenv("SARMAP_DATA_DIR"); }
 
-  static fs::path dir() { return fs::temp_directory_path() / ("sarmap_view_cli_" + std::to_string(::getpid())); }
+  static fs::path dir() {
+    return fs::temp_directory_path() / ("sarmap_view_cli_" + std::to_string(::getpid()));
+  }
   static fs::path data_dir() { return dir() / "share"; }
   static fs::path sequence() { return dir() / "sequence"; }
   static fs::path run() { return dir() / "run"; }
@@ -161,20 +164,34 @@ TEST_F(ViewCommand, ThinsLayersToMaxPoints) {
   EXPECT_NE(r.out.find("voxels 100 of "), std::string::npos) << r.out;
 }
 
+TEST_F(ViewCommand, QuietPrintsNothing) {
+  fs::rename(sequence(), dir() / "sequence-moved");  // a note would be printed too
+  const fs::path page = dir() / "quiet.html";
+  const auto r = view(quoted(run().string()) + " --quiet --out " + quoted(page.string()));
+  fs::rename(dir() / "sequence-moved", sequence());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "");
+  EXPECT_TRUE(fs::exists(page));
+}
+
 TEST_F(ViewCommand, DrawsAPlannedPath) {
   const fs::path path_file = dir() / "path.json";
   std::ofstream(path_file) << R"({"found": true, "graph": "roadmap", "algorithm": "dijkstra", "length": 2.0,
                                   "points": [[0.6, 0.6, 0], [1.6, 0.6, 0], [2.6, 0.6, 0]], "nodes": [0, 1]})";
   const fs::path page = dir() / "path.html";
-  auto r = view(quoted(run().string()) + " --path " + quoted(path_file.string()) + " --out " + quoted(page.string()));
+  auto r = view(quoted(run().string()) + " --path " + quoted(path_file.string()) + " --out " +
+                quoted(page.string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json path = page_data(page).at("layers").at("path");
   EXPECT_EQ(path["count"], 3u);
   EXPECT_EQ(path["graph"], "roadmap");
 
-  std::ofstream(path_file) << R"({"found": false, "reason": "unreachable", "graph": "tree", "algorithm": "dijkstra",
+  std::ofstream(path_file)
+      << R"({"found": false, "reason": "unreachable", "graph": "tree", "algorithm": "dijkstra",
                                   "length": 0, "points": []})";
-  r = view(quoted(run().string()) + " --path " + quoted(path_file.string()) + " --out " + quoted(page.string()));
+  r = view(quoted(run().string()) + " --path " + quoted(path_file.string()) + " --out " +
+           quoted(page.string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(page_data(page).at("layers").contains("path"));
   EXPECT_NE(r.out.find("holds no path"), std::string::npos) << r.out;
@@ -186,7 +203,8 @@ TEST_F(ViewCommand, ABadPathFileLeavesTheOldPageAlone) {
   const std::string before = test::read_all(page);
   const fs::path bad = dir() / "bad_path.json";
   std::ofstream(bad) << R"({"found": true, "points": [[1, 2]]})";
-  const auto r = view(quoted(run().string()) + " --path " + quoted(bad.string()) + " --out " + quoted(page.string()));
+  const auto r =
+      view(quoted(run().string()) + " --path " + quoted(bad.string()) + " --out " + quoted(page.string()));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err.rfind("sarmap: error: ", 0), 0u) << r.err;
   EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;

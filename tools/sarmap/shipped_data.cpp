@@ -38,8 +38,8 @@ fs::path find_in(const std::vector<DataDir>& dirs, const fs::path& relative, con
     if (fs::is_regular_file(file, ec)) return file;
     looked += (looked.empty() ? "" : "; ") + file.string() + ", " + dir.why;
   }
-  throw Error(ErrorCode::Io, "the shipped " + relative.string() + " was not found (looked for " + looked +
-                                 "). " + hint);
+  throw Error(ErrorCode::Io,
+              "the shipped " + relative.string() + " was not found (looked for " + looked + "). " + hint);
 }
 
 fs::path find_shipped(const fs::path& relative, const std::string& what_instead) {
@@ -86,9 +86,10 @@ fs::path shipped_viewer_bundle() {
   if ((env == nullptr || *env == '\0') && is_build_tree_binary(fs::read_symlink("/proc/self/exe", ec))) {
     dirs = {{kBuildTreeDataDir, "built for this build-tree binary"}};
   }
-  return find_in(dirs, "viewer.js",
-                 "The build bundles it from web/viewer/ once web/node_modules exists: run tools/install-deps.sh "
-                 "(it runs npm ci in web/), then cmake --build again");
+  return find_in(
+      dirs, "viewer.js",
+      "The build bundles it from web/viewer/ once web/node_modules exists: run tools/install-deps.sh "
+      "(it runs npm ci in web/), then cmake --build again (and cmake --install for an installed sarmap)");
 }
 
 }  // namespace sarmap::cli

@@ -59,11 +59,20 @@ std::string html_escaped(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -85,7 +94,8 @@ void run_view(const ViewArgs& a) {
   std::error_code ec;
   if (!fs::exists(run, ec)) throw Error(ErrorCode::Io, "view: " + run.string() + " not found");
   if (!fs::is_directory(run, ec)) {
-    throw Error(ErrorCode::InvalidArgument, "view: " + run.string() + " is not a folder written by sarmap run");
+    throw Error(ErrorCode::InvalidArgument,
+                "view: " + run.string() + " is not a folder written by sarmap run");
   }
   verify_run_folder(run);  // a half-written or mixed folder is refused
   if (a.max_points == 0) throw Error(ErrorCode::InvalidArgument, "view: --max-points must be at least 1");
@@ -123,10 +133,12 @@ void run_view(const ViewArgs& a) {
 
 void add_view_command(CLI::App& app) {
   auto args = std::make_shared<ViewArgs>();
-  CLI::App* cmd = app.add_subcommand("view", "Write RUNDIR/view.html, a 3-D view of a run that opens offline in a browser");
+  CLI::App* cmd = app.add_subcommand(
+      "view", "Write RUNDIR/view.html, a 3-D view of a run that opens offline in a browser");
   cmd->add_option("RUNDIR", args->run, "Folder written by `sarmap run`")->required();
   cmd->add_option("--out", args->out, "Write the page here instead of RUNDIR/view.html");
-  cmd->add_option("--path", args->path, "A route from `sarmap plan --out` to draw (default: RUNDIR/path.json if there)");
+  cmd->add_option("--path", args->path,
+                  "A route from `sarmap plan --out` to draw (default: RUNDIR/path.json if there)");
   cmd->add_option("--max-points", args->max_points,
                   "Most points, voxels or free voxels drawn per layer; more are thinned evenly")
       ->capture_default_str();

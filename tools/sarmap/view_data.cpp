@@ -119,10 +119,9 @@ Json free_layer(const fs::path& file, std::size_t budget) {
     return mod(k.x) == 0 && mod(k.y) == 0 && mod(k.z) == 0;
   };
   int stride = 1;
-  while (stride < kMaxStride &&
-         static_cast<std::size_t>(std::count_if(free.begin(), free.end(), [&](const metric::VoxelKey& k) {
-           return on_lattice(k, stride);
-         })) > budget) {
+  while (stride<kMaxStride&& static_cast<std::size_t>(std::count_if(
+             free.begin(), free.end(), [&](const metric::VoxelKey& k) { return on_lattice(k, stride); }))>
+             budget) {
     ++stride;
   }
   std::vector<metric::VoxelKey> lattice;
@@ -132,7 +131,8 @@ Json free_layer(const fs::path& file, std::size_t budget) {
   std::vector<float> positions;
   for (const std::size_t i : kept_indices(lattice.size(), budget)) {
     const Eigen::Vector3d c = map.center_of(lattice[i]);
-    positions.insert(positions.end(), {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())});
+    positions.insert(positions.end(),
+                     {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())});
   }
   return Json{{"count", positions.size() / 3},
               {"total", free.size()},
@@ -144,14 +144,15 @@ Json free_layer(const fs::path& file, std::size_t budget) {
 Json segments_layer(const std::vector<segments::Segment>& segments) {
   Json items = Json::array();
   for (const segments::Segment& s : segments) {
-    items.push_back(Json{{"id", s.id},
-                         {"class_id", static_cast<int>(s.label)},
-                         {"center", vec3(s.rectangle.center)},
-                         {"axes", Json::array({vec3(s.rectangle.axes[0]), vec3(s.rectangle.axes[1])})},
-                         {"half_extents", Json::array({s.rectangle.half_extents[0], s.rectangle.half_extents[1]})},
-                         {"area_m2", s.area_m2},
-                         {"slope_deg", s.slope_deg},
-                         {"inliers", s.inliers}});
+    items.push_back(
+        Json{{"id", s.id},
+             {"class_id", static_cast<int>(s.label)},
+             {"center", vec3(s.rectangle.center)},
+             {"axes", Json::array({vec3(s.rectangle.axes[0]), vec3(s.rectangle.axes[1])})},
+             {"half_extents", Json::array({s.rectangle.half_extents[0], s.rectangle.half_extents[1]})},
+             {"area_m2", s.area_m2},
+             {"slope_deg", s.slope_deg},
+             {"inliers", s.inliers}});
   }
   return Json{{"count", items.size()}, {"items", std::move(items)}};
 }
@@ -193,7 +194,9 @@ Json path_layer(const fs::path& file, std::vector<std::string>& notes) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     out.push_back(vec3(json_fields::vector3(points[i], "points[" + std::to_string(i) + "]", file, "route")));
   }
-  Json layer{{"count", out.size()}, {"points", std::move(out)}, {"length", json_fields::number(route, "length", file, "route")}};
+  Json layer{{"count", out.size()},
+             {"points", std::move(out)},
+             {"length", json_fields::number(route, "length", file, "route")}};
   for (const char* key : {"graph", "algorithm"}) {
     if (route.contains(key) && route[key].is_string()) layer[key] = route[key];
   }
@@ -280,12 +283,15 @@ ViewData read_view_data(const fs::path& run, const ViewDataOptions& options) {
   }
   if (is_file(run / "graph.json")) graph_layers(run / "graph.json", segments, layers);
   if (!options.path_file.empty()) {
-    if (Json path = path_layer(options.path_file, view.notes); !path.is_null()) layers["path"] = std::move(path);
+    if (Json path = path_layer(options.path_file, view.notes); !path.is_null())
+      layers["path"] = std::move(path);
   }
   if (Json trajectory = trajectory_layer(run / "manifest.json", view.notes); !trajectory.is_null()) {
     layers["trajectory"] = std::move(trajectory);
   }
-  view.json = Json{{"version", 1}, {"run", run.filename().string()}, {"classes", std::move(classes)},
+  view.json = Json{{"version", 1},
+                   {"run", run.filename().string()},
+                   {"classes", std::move(classes)},
                    {"layers", std::move(layers)}};
   return view;
 }
