@@ -4,7 +4,7 @@
 // checks that the page has a WebGL2 context, that every layer the run has
 // reports the counts of the run's own files and draws pixels with only that
 // layer shown, that the layer switches work, and that clicking a voxel and a
-// segment fills the info panel with what voxels.ply and segments.json hold.
+// segment or node fills the info panel (a voxel's as voxels.ply holds it).
 // Screenshots go to WORK/screenshots/. Exit 77 (CTest's skip) when the
 // browser or web/node_modules is missing.
 //
@@ -199,12 +199,15 @@ async function main() {
     }
     await page.screenshot({ path: path.join(o.work, 'screenshots', 'voxel_clicked.png') });
 
-    // A segment: its rectangle's centre.
-    await page.evaluate(() => window.sarmapView.showOnly('segments'));
-    const segment = await page.evaluate(() => window.sarmapView.screenPoint(window.sarmapView.describe('segments', 0).position));
-    await page.mouse.click(segment.x, segment.y);
-    const segmentInfo = await page.textContent('#sarmap-info');
-    check(/^segment \d+\nclass: /.test(segmentInfo || ''), `clicking a segment shows its id and class: '${segmentInfo}'`);
+    // A segment (its rectangle's centre) and a graph node, each shown alone.
+    for (const [name, pattern] of [['segments', /^segment \d+\nclass: /], ['nodes', /^node \d+\nclass: .*\nnode kind: /]]) {
+      await page.evaluate((n) => window.sarmapView.showOnly(n), name);
+      const at = await page.evaluate((n) => window.sarmapView.screenPointOf(n, 0), name);
+      await page.mouse.click(at.x, at.y);
+      const text = await page.textContent('#sarmap-info');
+      check(pattern.test(text || ''), `clicking one of the ${name} shows its id and class: '${text}'`);
+    }
+    await page.screenshot({ path: path.join(o.work, 'screenshots', 'node_clicked.png') });
 
     console.log(`viewer test: layers drew ${Object.entries(drawn).map(([n, p]) => `${n} ${p}`).join(', ')} pixels; ` +
       `${((Date.now() - started) / 1000).toFixed(1)} s; screenshots in ${path.join(o.work, 'screenshots')}`);

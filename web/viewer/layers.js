@@ -1,6 +1,7 @@
 // The three.js objects of each layer a run has, built from the page's data
 // (tools/sarmap/view_data.cpp gives its shape). Each layer is
-// {object, count, total, describe(index), pickable, indexOfHit(hit)}; many
+// {object, count, total, describe(index), pickable, indexOfHit(hit),
+// drawnAt(index) when an item is drawn away from its position}; many
 // items share one draw call (points, instanced cubes and spheres, one
 // geometry for all rectangles), so large maps stay smooth.
 import * as THREE from 'three';
@@ -159,6 +160,8 @@ function graphNodes(layer, ctx) {
       return { kind: 'node', id: node.id, class: className(ctx.classes, node.class_id), node_kind: node.kind,
         segment: node.segment, position: node.pos };
     },
+    // Where the sphere is drawn: resting on the node's ground point.
+    drawnAt: (i) => [layer.items[i].pos[0], layer.items[i].pos[1], layer.items[i].pos[2] + radius],
   };
 }
 

@@ -3,7 +3,8 @@
 // inspect), and exposes window.sarmapView for tests and scripts:
 //   ready, error, webgl2, layers: {name: {count, total, visible}},
 //   setVisible(name, on), toggle(name), showOnly(name), showAll(), hideAll(),
-//   describe(name, index), screenPoint([x, y, z]), pickAt(clientX, clientY), selected.
+//   describe(name, index), screenPoint([x, y, z]), screenPointOf(name, index),
+//   pickAt(clientX, clientY), selected.
 // It draws only on a change (no animation loop), so an idle page costs nothing.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
@@ -99,6 +100,11 @@ function start() {
     const rect = renderer.domElement.getBoundingClientRect();
     return { x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height };
   };
+  // Where on the screen an item of a layer is drawn (to click it).
+  api.screenPointOf = (name, index) => {
+    const layer = layers[name];
+    return api.screenPoint(layer.drawnAt ? layer.drawnAt(index) : layer.describe(index).position);
+  };
 
   // The picked item's place, drawn over everything so it shows inside a wall of cubes too.
   const marker = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(1, 1, 1)),
@@ -120,10 +126,11 @@ function start() {
       const hit = raycaster.intersectObject(layer.pickable, false)[0];
       if (hit && (!best || hit.distance < best.hit.distance)) best = { hit, layer };
     }
-    api.selected = best ? best.layer.describe(best.layer.indexOfHit(best.hit)) : null;
+    const index = best ? best.layer.indexOfHit(best.hit) : -1;
+    api.selected = best ? best.layer.describe(index) : null;
     show(api.selected);
     marker.visible = !!api.selected;
-    if (api.selected) marker.position.set(...api.selected.position);
+    if (api.selected) marker.position.set(...(best.layer.drawnAt ? best.layer.drawnAt(index) : api.selected.position));
     render();
     return api.selected;
   };

@@ -75,7 +75,8 @@ export function helpLine() {
 }
 
 function formatted(key, value) {
-  if (Array.isArray(value)) return value.map((v) => v.toFixed(3)).join(', ');
+  // Rounding can leave "-0.000", which reads as a sign that is not there.
+  if (Array.isArray(value)) return value.map((v) => (Math.abs(v) < 5e-4 ? 0 : v).toFixed(3)).join(', ');
   if (typeof value === 'number' && !Number.isInteger(value)) return value.toFixed(key === 'probability' ? 3 : 2);
   return String(value);
 }
