@@ -241,7 +241,7 @@ TEST_F(ViewCommand, RefusesWhatIsNoRunFolder) {
   EXPECT_FALSE(fs::exists(empty / "view.html"));
 
   r = view(quoted(run().string()) + " --max-points 0");
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // a value the option refuses is a usage error
   EXPECT_NE(r.err.find("--max-points"), std::string::npos) << r.err;
 }
 

@@ -12,6 +12,7 @@
 #include "engine/io/file_bytes.hpp"
 #include "engine/io/run_folder.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/shipped_data.hpp"
 #include "tools/sarmap/view_data.hpp"
 
@@ -98,7 +99,6 @@ void run_view(const ViewArgs& a) {
                 "view: " + run.string() + " is not a folder written by sarmap run");
   }
   verify_run_folder(run);  // a half-written or mixed folder is refused
-  if (a.max_points == 0) throw Error(ErrorCode::InvalidArgument, "view: --max-points must be at least 1");
   const fs::path bundle = shipped_viewer_bundle();
 
   ViewDataOptions options;
@@ -141,6 +141,7 @@ void add_view_command(CLI::App& app) {
                   "A route from `sarmap plan --out` to draw (default: RUNDIR/path.json if there)");
   cmd->add_option("--max-points", args->max_points,
                   "Most points, voxels or free voxels drawn per layer; more are thinned evenly")
+      ->check(finite_positive())
       ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "Print nothing");
   cmd->callback([args] { run_view(*args); });
