@@ -14,6 +14,34 @@ find_package(assimp REQUIRED)
 if(SARMAP_BUILD_TOOLS)
   find_package(CLI11 REQUIRED)
 endif()
+# ROS 1 bags in (engine/io_rosbag) through Debian's librosbag-storage-dev
+# (the bag API of librosbag-dev, without its player and recorder), ON when it
+# is found. Its CMake package (rosbag_storageConfig) loads ament's CMake
+# helpers, which run a Python that must have ament's modules, so the headers
+# and the four libraries sarmap calls are found directly instead.
+option(SARMAP_WITH_ROSBAG "Read ROS 1 bags when librosbag-storage-dev is installed" ON)
+set(SARMAP_HAVE_ROSBAG OFF)
+if(SARMAP_WITH_ROSBAG)
+  find_path(SARMAP_ROSBAG_INCLUDE_DIR rosbag/bag.h)
+  # rosbag/bag.h includes ROS 2's pluginlib, which Debian keeps in folders of its own.
+  set(SARMAP_ROSBAG_INCLUDE_DIRS ${SARMAP_ROSBAG_INCLUDE_DIR})
+  foreach(header pluginlib/class_loader.hpp class_loader/class_loader.hpp rcpputils/shared_library.hpp
+                 rcutils/types.h ament_index_cpp/get_package_prefix.hpp)
+    string(REGEX REPLACE "/.*" "" package ${header})
+    find_path(SARMAP_ROSBAG_${package}_DIR ${header} PATH_SUFFIXES ${package})
+    list(APPEND SARMAP_ROSBAG_INCLUDE_DIRS ${SARMAP_ROSBAG_${package}_DIR})
+  endforeach()
+  set(SARMAP_ROSBAG_LIBRARIES)
+  foreach(lib rosbag_storage roscpp_serialization rostime cpp_common)
+    find_library(SARMAP_ROSBAG_${lib}_LIBRARY ${lib})
+    list(APPEND SARMAP_ROSBAG_LIBRARIES ${SARMAP_ROSBAG_${lib}_LIBRARY})
+  endforeach()
+  if(NOT "${SARMAP_ROSBAG_INCLUDE_DIRS};${SARMAP_ROSBAG_LIBRARIES}" MATCHES "NOTFOUND")
+    set(SARMAP_HAVE_ROSBAG ON)
+  else()
+    message(STATUS "librosbag-storage-dev not found: sarmap is built without ROS 1 bag input")
+  endif()
+endif()
 if(SARMAP_BUILD_TESTS)
   find_package(GTest REQUIRED)
   # OctoMap is a peer the tests and benchmarks compare against, never a

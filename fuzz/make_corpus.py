@@ -182,6 +182,48 @@ def main():
     put("map_file", "one_block.bin", sarmap_map([((1, -2, 0), lambda v: (
         (-32768, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [256, -128, 0, 0, 512, 0])))]))
 
+    ros_messages()
+
+
+# --- ROS 1 messages (ros_messages: first byte picks the type) ---------------
+def ros_string(text):
+    return struct.pack("<I", len(text)) + text.encode()
+
+
+def ros_header(sec, frame):
+    return struct.pack("<III", 0, sec, 0) + ros_string(frame)
+
+
+def ros_pose(x, y, z, qx, qy, qz, qw):
+    return struct.pack("<7d", x, y, z, qx, qy, qz, qw)
+
+
+def point_cloud2(xyz64=False):
+    kind, size = (8, 8) if xyz64 else (7, 4)
+    fields = b"".join(ros_string(n) + struct.pack("<IBI", o, kind, 1) for n, o in (("x", 0), ("y", size), ("z", 2 * size)))
+    fields += ros_string("label") + struct.pack("<IBI", 3 * size, 2, 1)
+    point_step = 3 * size + 4
+    width, height, row_step = 2, 2, 2 * point_step + 4
+    data = b""
+    for row in range(height):
+        for col in range(width):
+            v = float(row * width + col)
+            data += struct.pack("<ddd" if xyz64 else "<fff", v, -v, 0.5 * v) + bytes([col, 0, 0, 0])
+        data += b"\0" * 4
+    return (ros_header(7, "lidar") + struct.pack("<III", height, width, 4) + fields +
+            struct.pack("<BII", 0, point_step, row_step) + struct.pack("<I", len(data)) + data + b"\0")
+
+
+def ros_messages():
+    put("ros_messages", "cloud_float32.bin", b"\x00" + point_cloud2())
+    put("ros_messages", "cloud_float64.bin", b"\x00" + point_cloud2(xyz64=True))
+    put("ros_messages", "odometry.bin",
+        b"\x01" + ros_header(3, "map") + ros_string("base") + ros_pose(1, 2, 3, 0, 0, 0, 1) + b"\0" * (36 * 8 * 2 + 48))
+    put("ros_messages", "pose_stamped.bin", b"\x02" + ros_header(4, "map") + ros_pose(0, 0, 1, 0, 0, 1, 0))
+    put("ros_messages", "tf_two_edges.bin", b"\x03" + struct.pack("<I", 2) +
+        ros_header(5, "map") + ros_string("odom") + ros_pose(1, 0, 0, 0, 0, 0, 1) +
+        ros_header(5, "odom") + ros_string("base") + ros_pose(0, 1, 0, 0, 0, 0.7071, 0.7071))
+
 
 if __name__ == "__main__":
     main()

@@ -31,7 +31,7 @@ foreach(f bin/sarmap lib/libsarmap_core.a lib/cmake/sarmap/sarmapConfig.cmake
 endforeach()
 file(GLOB_RECURSE installed RELATIVE ${prefix} ${prefix}/*)
 foreach(f ${installed})
-  if(NOT f MATCHES "^(bin/sarmap|lib/libsarmap_[a-z]+\\.a|lib/cmake/sarmap/[A-Za-z-]+\\.cmake|include/sarmap/(engine|kernels)/.*\\.hpp|share/sarmap/(models/ramps-dgcnn\\.safetensors|arenas/[a-z0-9-]+\\.json|arenas/meshes/.*|viewer\\.js))$")
+  if(NOT f MATCHES "^(bin/sarmap|lib/libsarmap_[a-z_]+\\.a|lib/cmake/sarmap/[A-Za-z-]+\\.cmake|include/sarmap/(engine|kernels)/.*\\.hpp|share/sarmap/(models/ramps-dgcnn\\.safetensors|arenas/[a-z0-9-]+\\.json|arenas/meshes/.*|viewer\\.js))$")
     message(FATAL_ERROR "the install holds ${f}, which is no part of the package")
   endif()
 endforeach()

@@ -17,6 +17,10 @@ packages=(
   libboost-graph-dev
   # tests only: graph.json must load in networkx (tests/cli/plan_command_test.cpp)
   python3-networkx
+  # ROS 1 bags in (engine/io_rosbag, optional: built when found): rosbag_storage
+  # reads the bag container; the test writes its bags with python3-rosbag
+  # (tests/cli/rosbag_input_test.cpp). librosbag-dev (player, recorder) is not needed.
+  librosbag-storage-dev python3-rosbag
   # fuzzing only (fuzz/, tools/fuzz.sh, the CI fuzz job): clang and its
   # libFuzzer runtime; GCC has no libFuzzer
   clang-14 libclang-rt-14-dev

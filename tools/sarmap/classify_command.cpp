@@ -109,7 +109,7 @@ void run_cloud(const ClassifyOptions& o) {
   settings.seed = o.seed;
   settings.ramp_veto.enabled = o.ramp_veto;
   const DgcnnClassifier classifier(model, settings);
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
+  const std::unique_ptr<ScanSource> source = open_input_sequence(o.input, o.sequence);
   if (o.frame >= source->size()) {
     throw Error(ErrorCode::InvalidArgument, o.input + ": --frame " + std::to_string(o.frame) + " but the sequence has " +
                                                 std::to_string(source->size()) + " frames");

@@ -147,7 +147,7 @@ void run_convert(const ConvertArgs& a) {
   if (a.voxel_cubes) {
     throw Error(ErrorCode::InvalidArgument, "convert: --voxel-cubes needs a metric map (.sarmap) as input");
   }
-  if (std::filesystem::is_regular_file(in) && in.filename() != "sequence.json") {
+  if (std::filesystem::is_regular_file(in) && in.filename() != "sequence.json" && !is_bag_path(in)) {
     if (!is_cloud_path(out)) {
       throw Error(ErrorCode::InvalidArgument,
                   "convert: " + a.out + ": a cloud converts to a .ply or .pcd file");
@@ -163,7 +163,7 @@ void run_convert(const ConvertArgs& a) {
   if (std::filesystem::equivalent(in, out, ec)) {
     throw Error(ErrorCode::InvalidArgument, "convert: " + a.out + " is the input sequence itself");
   }
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(in, a.sequence.options());
+  const std::unique_ptr<ScanSource> source = open_input_sequence(in, a.sequence);
   ProgressLine progress("convert", source->size(), !a.quiet);
   Scan scan;
   std::size_t frames = 0;

@@ -179,7 +179,7 @@ std::string sensor_text(const SensorInfo& s) {
 }
 
 void sequence_info(const InfoArgs& a) {
-  const std::unique_ptr<ScanSource> source = open_scan_sequence(a.path, a.sequence.options());
+  const std::unique_ptr<ScanSource> source = open_input_sequence(a.path, a.sequence);
 
   std::size_t total_points = 0, dropped = 0, frames = 0;
   Bounds bounds, positions;
@@ -251,8 +251,10 @@ void add_info_command(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = app.add_subcommand(
       "info", "Describe a point cloud (.ply, .pcd), a metric map (map.sarmap) or a scan sequence folder");
-  cmd->add_option("path", args->path,
-                  "PLY / PCD file, a metric map (.sarmap), or a sequence folder (sarmap, TUM RGB-D, 7-Scenes)")
+  cmd->add_option(
+         "path", args->path,
+         "PLY / PCD file, a metric map (.sarmap), a sequence folder (sarmap, TUM RGB-D, 7-Scenes) or "
+         "a ROS 1 bag (.bag)")
       ->required();
   cmd->add_flag("--json", args->json, "Machine-readable output");
   add_sequence_input_options(cmd, args->sequence);
@@ -261,7 +263,8 @@ void add_info_command(CLI::App& app) {
     const std::filesystem::path path(args->path);
     if (metric::is_map_file_path(path) && !std::filesystem::is_directory(path)) {
       map_info(*args);
-    } else if (std::filesystem::is_regular_file(path) && path.filename() != "sequence.json") {
+    } else if (std::filesystem::is_regular_file(path) && path.filename() != "sequence.json" &&
+               !is_bag_path(path)) {
       cloud_info(*args);
     } else {
       sequence_info(*args);

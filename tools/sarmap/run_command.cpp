@@ -189,7 +189,7 @@ RunSummary run_pipeline(const RunOptions& o) {
                                                   static_cast<std::size_t>(o.threads));
   }
   const auto wall_start = std::chrono::steady_clock::now();
-  std::unique_ptr<ScanSource> source = open_scan_sequence(o.input, o.sequence.options());
+  std::unique_ptr<ScanSource> source = open_input_sequence(o.input, o.sequence);
   pipeline::MapperConfig config = apply_run_options(o, o.base_config.value_or(pipeline::MapperConfig{}));
   // Without a config file the kept points share the map's voxel.
   if (!o.base_config) config.semantic_points_voxel = o.voxel;
