@@ -49,9 +49,23 @@ void draw_line(RgbImage& image, const Eigen::Vector2f& a, const Eigen::Vector2f&
   pixel_span(std::min(from.y(), to.y()) - r, std::max(from.y(), to.y()) + r, image.height(), y0, y1);
   const Eigen::Vector2d d = to - from;
   const double length2 = d.squaredNorm();
+  // Every pixel within r of the segment lies within r of its line, whose
+  // band crosses a row in a run r |d| / |d.y| to either side of the line: only
+  // that run of each row is tested, not the whole bounding box, so a long
+  // diagonal costs its length, not its box's area.
+  const double run = std::abs(d.y()) > 0 ? r * std::sqrt(length2) / std::abs(d.y()) : 0;
   for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+    const double row = y + 0.5;
+    int first = x0, last = x1;
+    if (std::abs(d.y()) > 0) {
+      const double across = from.x() + (row - from.y()) * d.x() / d.y();
+      int a0, a1;
+      pixel_span(across - run, across + run, image.width(), a0, a1);
+      first = std::max(first, a0);
+      last = std::min(last, a1);
+    }
+    for (int x = first; x <= last; ++x) {
+      const Eigen::Vector2d p(x + 0.5, row);
       const double s = length2 > 0 ? std::clamp((p - from).dot(d) / length2, 0.0, 1.0) : 0.0;
       if ((p - (from + s * d)).squaredNorm() <= r * r) image.set(x, y, color);
     }
