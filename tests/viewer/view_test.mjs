@@ -3,8 +3,9 @@
 // Debian's Chromium (headless, software WebGL) through playwright-core, and
 // checks that the page has a WebGL2 context, that every layer the run has
 // reports the counts of the run's own files and draws pixels with only that
-// layer shown, that the layer switches work, and that clicking a voxel and a
-// segment or node fills the info panel (a voxel's as voxels.ply holds it).
+// layer shown, that the layer and class switches work, and that clicking a
+// voxel, a segment or a node fills the info panel (a voxel's as voxels.ply
+// holds it).
 // Screenshots go to WORK/screenshots/. Exit 77 (CTest's skip) when the
 // browser or web/node_modules is missing.
 //
@@ -84,6 +85,14 @@ function nonBackgroundPixels(png, background) {
   return n;
 }
 
+// A screenshot of the 3-D view alone: the panels are hidden while it is taken.
+async function viewShot(page, file) {
+  const bare = await page.addStyleTag({ content: '.sarmap-panel { visibility: hidden !important; }' });
+  const png = await page.screenshot(file ? { path: file } : {});
+  await bare.evaluate((e) => e.remove());
+  return png;
+}
+
 async function main() {
   const o = options();
   if (!fs.existsSync(o.chromium)) {
@@ -152,28 +161,36 @@ async function main() {
     }
     check(state.layers.free && state.layers.free.count > 0, 'free voxels are drawn');
 
-    // Each layer alone on the background, panels hidden so only the 3-D view counts.
+    // Each layer alone on the background.
     const background = [0x20, 0x24, 0x2c];
-    const bare = await page.addStyleTag({ content: '.sarmap-panel { visibility: hidden !important; }' });
+    const shots = path.join(o.work, 'screenshots');
     await page.evaluate(() => window.sarmapView.hideAll());
-    const empty = await page.screenshot({ path: path.join(o.work, 'screenshots', 'empty.png') });
+    const empty = await viewShot(page, path.join(shots, 'empty.png'));
     check(nonBackgroundPixels(empty, background) === 0, 'with every layer hidden the view is background only');
     const drawn = {};
     for (const name of names) {
       await page.evaluate((n) => window.sarmapView.showOnly(n), name);
-      const shot = await page.screenshot({ path: path.join(o.work, 'screenshots', `${name}.png`) });
-      drawn[name] = nonBackgroundPixels(shot, background);
+      drawn[name] = nonBackgroundPixels(await viewShot(page, path.join(shots, `${name}.png`)), background);
       check(drawn[name] > 50, `${name} alone draws pixels (${drawn[name]})`);
     }
-    await bare.evaluate((e) => e.remove());
     await page.evaluate(() => window.sarmapView.showAll());
-    await page.screenshot({ path: path.join(o.work, 'screenshots', 'all.png') });
+    await page.screenshot({ path: path.join(shots, 'all.png') });
 
     // The layer switches: unticking hides the layer, ticking shows it again.
     await page.click('#sarmap-layer-voxels');
     check(!(await page.evaluate(() => window.sarmapView.layers.voxels.visible)), 'unticking voxels hides them');
     await page.click('#sarmap-layer-voxels');
     check(await page.evaluate(() => window.sarmapView.layers.voxels.visible), 'ticking voxels shows them');
+
+    // The legend's class switch: walls unticked leave fewer voxel pixels, ticked bring them back.
+    await page.evaluate(() => window.sarmapView.showOnly('voxels'));
+    const withWalls = nonBackgroundPixels(await viewShot(page), background);
+    await page.click('#sarmap-class-2');
+    check(JSON.stringify(await page.evaluate(() => window.sarmapView.hiddenClasses)) === '[2]', 'unticking wall hides class 2');
+    const noWalls = nonBackgroundPixels(await viewShot(page, path.join(shots, 'voxels_without_walls.png')), background);
+    check(noWalls > 50 && noWalls < withWalls, `voxels without walls draw fewer pixels (${noWalls} < ${withWalls})`);
+    await page.click('#sarmap-class-2');
+    check((await page.evaluate(() => window.sarmapView.hiddenClasses)).length === 0, 'ticking wall shows it again');
 
     // Click the highest voxel (nothing stands above it) and read the info panel.
     await page.evaluate(() => window.sarmapView.showOnly('voxels'));
@@ -197,7 +214,7 @@ async function main() {
       check(Math.abs(Number(shown[3]) - voxels.get(id, 'scalar_probability')) < 1e-3,
         `voxel ${id}'s probability is voxels.ply's (${shown[3]})`);
     }
-    await page.screenshot({ path: path.join(o.work, 'screenshots', 'voxel_clicked.png') });
+    await page.screenshot({ path: path.join(shots, 'voxel_clicked.png') });
 
     // A segment (its rectangle's centre) and a graph node, each shown alone.
     for (const [name, pattern] of [['segments', /^segment \d+\nclass: /], ['nodes', /^node \d+\nclass: .*\nnode kind: /]]) {
@@ -207,10 +224,10 @@ async function main() {
       const text = await page.textContent('#sarmap-info');
       check(pattern.test(text || ''), `clicking one of the ${name} shows its id and class: '${text}'`);
     }
-    await page.screenshot({ path: path.join(o.work, 'screenshots', 'node_clicked.png') });
+    await page.screenshot({ path: path.join(shots, 'node_clicked.png') });
 
     console.log(`viewer test: layers drew ${Object.entries(drawn).map(([n, p]) => `${n} ${p}`).join(', ')} pixels; ` +
-      `${((Date.now() - started) / 1000).toFixed(1)} s; screenshots in ${path.join(o.work, 'screenshots')}`);
+      `${((Date.now() - started) / 1000).toFixed(1)} s; screenshots in ${shots}`);
   } finally {
     await browser.close();
   }

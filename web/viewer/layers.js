@@ -1,7 +1,8 @@
 // The three.js objects of each layer a run has, built from the page's data
 // (tools/sarmap/view_data.cpp gives its shape). Each layer is
 // {object, count, total, describe(index), pickable, indexOfHit(hit),
-// drawnAt(index) when an item is drawn away from its position}; many
+// drawnAt(index) when an item is drawn away from its position}; points and
+// voxels are a group with one child per class (userData.classId); many
 // items share one draw call (points, instanced cubes and spheres, one
 // geometry for all rectangles), so large maps stay smooth.
 import * as THREE from 'three';
@@ -52,12 +53,43 @@ function pointCloud(positions, colors, size, opacity) {
   return new THREE.Points(geometry, material);
 }
 
+// Item indices grouped by class, so each class is an object of its own that
+// the legend can hide without rebuilding anything.
+function byClass(labels, classCount) {
+  const classOf = (label) => (label < classCount ? label : 0);  // an id past the table is unknown
+  const counts = new Array(classCount).fill(0);
+  for (const label of labels) counts[classOf(label)] += 1;
+  const groups = counts.map((n) => new Uint32Array(n));
+  const filled = new Array(classCount).fill(0);
+  labels.forEach((label, i) => {
+    const c = classOf(label);
+    groups[c][filled[c]++] = i;
+  });
+  return groups;
+}
+
+function classGroup(labels, ctx, build) {
+  const group = new THREE.Group();
+  byClass(labels, ctx.classes.length).forEach((indices, classId) => {
+    if (indices.length === 0) return;
+    const object = build(indices, ctx.colors[classId]);
+    object.userData = { classId, indices };
+    group.add(object);
+  });
+  return group;
+}
+
 function semanticPoints(layer, ctx) {
   const positions = float32s(layer.positions);
   const labels = uint8s(layer.labels);
   expandBy(ctx.bounds, positions);
+  const object = classGroup(labels, ctx, (indices, color) => {
+    const own = new Float32Array(indices.length * 3);
+    indices.forEach((i, k) => own.set(positions.subarray(3 * i, 3 * i + 3), 3 * k));
+    return pointCloud(own, color, ctx.voxelSize * 0.9, 1);
+  });
   return {
-    object: pointCloud(positions, colorsByLabel(labels, ctx.colors), ctx.voxelSize * 0.9, 1),
+    object,
     labels,
     describe: (i) => ({ kind: 'point', id: i, class: className(ctx.classes, labels[i]),
       position: [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]] }),
@@ -70,19 +102,20 @@ function occupiedVoxels(layer, ctx) {
   const ids = uint32s(layer.ids);
   const probabilities = layer.probabilities ? float32s(layer.probabilities) : null;
   expandBy(ctx.bounds, positions);
-  const mesh = new THREE.InstancedMesh(new THREE.BoxGeometry(layer.size, layer.size, layer.size),
-    new THREE.MeshLambertMaterial(), layer.count);
+  const cube = new THREE.BoxGeometry(layer.size, layer.size, layer.size);
   const m = new THREE.Matrix4();
-  for (let i = 0; i < layer.count; ++i) {
-    mesh.setMatrixAt(i, m.makeTranslation(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]));
-    mesh.setColorAt(i, ctx.colors[labels[i]] || ctx.colors[0]);
-  }
-  mesh.computeBoundingSphere();
+  const object = classGroup(labels, ctx, (indices, color) => {
+    const mesh = new THREE.InstancedMesh(cube, new THREE.MeshLambertMaterial({ color }), indices.length);
+    indices.forEach((i, k) => mesh.setMatrixAt(k, m.makeTranslation(positions[3 * i], positions[3 * i + 1],
+      positions[3 * i + 2])));
+    mesh.computeBoundingSphere();
+    return mesh;
+  });
   return {
-    object: mesh,
+    object,
     labels,
-    pickable: mesh,
-    indexOfHit: (hit) => hit.instanceId,
+    pickable: object,
+    indexOfHit: (hit) => hit.object.userData.indices[hit.instanceId],
     describe: (i) => ({ kind: 'voxel', id: ids[i], class: className(ctx.classes, labels[i]),
       probability: probabilities ? probabilities[i] : null,
       position: [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]] }),

@@ -3,6 +3,7 @@
 // inspect), and exposes window.sarmapView for tests and scripts:
 //   ready, error, webgl2, layers: {name: {count, total, visible}},
 //   setVisible(name, on), toggle(name), showOnly(name), showAll(), hideAll(),
+//   setClassVisible(classId, on), hiddenClasses,
 //   describe(name, index), screenPoint([x, y, z]), screenPointOf(name, index),
 //   pickAt(clientX, clientY), selected.
 // It draws only on a change (no animation loop), so an idle page costs nothing.
@@ -94,6 +95,19 @@ function start() {
     render();
   };
   api.hideAll = () => api.showOnly(null);
+  // Classes hidden in the legend, across the point and voxel layers.
+  api.hiddenClasses = [];
+  api.setClassVisible = (classId, on) => {
+    for (const layer of Object.values(layers)) {
+      for (const child of layer.object.children) {
+        if (child.userData.classId === classId) child.visible = on;
+      }
+    }
+    api.hiddenClasses = api.hiddenClasses.filter((c) => c !== classId).concat(on ? [] : [classId]);
+    const box = document.getElementById(`sarmap-class-${classId}`);
+    if (box) box.checked = on;
+    render();
+  };
   api.describe = (name, index) => layers[name].describe(index);
   api.screenPoint = (p) => {
     const v = new THREE.Vector3(p[0], p[1], p[2]).project(camera);
@@ -123,7 +137,8 @@ function start() {
     let best = null;
     for (const layer of Object.values(layers)) {
       if (!layer.pickable || !layer.object.visible) continue;
-      const hit = raycaster.intersectObject(layer.pickable, false)[0];
+      // The raycaster does not skip hidden objects: a class hidden in the legend must not be picked.
+      const hit = raycaster.intersectObject(layer.pickable, true).find((h) => h.object.visible);
       if (hit && (!best || hit.distance < best.hit.distance)) best = { hit, layer };
     }
     const index = best ? best.layer.indexOfHit(best.hit) : -1;
@@ -143,7 +158,8 @@ function start() {
   });
 
   layerPanel(data.run, layers, LAYER_NAMES, (name, on) => api.setVisible(name, on));
-  legend(data.classes, layers.voxels ? layers.voxels.labels : layers.points ? layers.points.labels : null);
+  legend(data.classes, layers.voxels ? layers.voxels.labels : layers.points ? layers.points.labels : null,
+    (classId, on) => api.setClassVisible(classId, on));
   helpLine();
   render();
   api.ready = true;

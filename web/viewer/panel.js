@@ -52,17 +52,20 @@ export function layerPanel(run, layers, names, onToggle) {
   return panel;
 }
 
-// The classes with their colours, and how many occupied voxels each holds.
-export function legend(classes, voxelLabels) {
+// The classes with their colours and how many occupied voxels each holds;
+// onToggle(classId, visible) when a class is ticked or unticked.
+export function legend(classes, voxelLabels, onToggle) {
   const counts = new Array(classes.length).fill(0);
   if (voxelLabels) for (const label of voxelLabels) counts[label] += 1;
   const panel = element('div', { id: 'sarmap-legend', className: 'sarmap-panel' });
   panel.appendChild(element('h1', {}, 'classes'));
   for (const c of classes) {
-    const row = element('div');
+    const row = element('label');
+    const box = element('input', { type: 'checkbox', checked: true, id: `sarmap-class-${c.id}` });
+    box.addEventListener('change', () => onToggle(c.id, box.checked));
     const swatch = element('span', { className: 'sarmap-swatch' });
     swatch.style.background = `rgb(${c.color.join(',')})`;
-    row.append(swatch, c.label);
+    row.append(box, swatch, c.label);
     if (voxelLabels) row.append(element('span', { className: 'sarmap-count' }, ` ${counts[c.id].toLocaleString('en')}`));
     panel.appendChild(row);
   }
