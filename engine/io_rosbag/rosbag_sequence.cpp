@@ -35,7 +35,14 @@ auto guarded(const std::filesystem::path& path, F&& f) -> decltype(f()) {
   }
 }
 
-std::vector<std::uint8_t> message_bytes(const rosbag::MessageInstance& m) {
+// The message's bytes, refused before allocating when the bag's index says
+// it is larger than one input file may be (--max-file-mb).
+std::vector<std::uint8_t> message_bytes(const rosbag::MessageInstance& m, const InputLimits& limits,
+                                        const std::string& what) {
+  if (m.size() > limits.max_file_bytes) {
+    throw Error(ErrorCode::OutOfRange,
+                what + ": " + std::to_string(m.size()) + " bytes, more than --max-file-mb allows");
+  }
   std::vector<std::uint8_t> bytes(m.size());
   ros::serialization::OStream stream(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
   m.write(stream);
@@ -120,7 +127,8 @@ class RosbagSequence final : public ScanSource {
       const rosbag::MessageInstance message = *it_;
       ++it_;  // past this message even when it cannot be used
       const std::string what = path_.string() + " " + cloud_topic_ + " message " + std::to_string(index);
-      ros1::CloudMessage cloud = ros1::decode_point_cloud2(message_bytes(message), what, limits_);
+      ros1::CloudMessage cloud =
+          ros1::decode_point_cloud2(message_bytes(message, limits_, what), what, limits_);
       // A cloud without a stamp is placed at the time the bag recorded it.
       const double stamp = cloud.header.stamp > 0 ? cloud.header.stamp : message.getTime().toSec();
       const Pose pose = pose_at(stamp, cloud.header.frame_id, what);
@@ -194,7 +202,7 @@ class RosbagSequence final : public ScanSource {
       std::size_t n = 0;
       for (const rosbag::MessageInstance& m : view) {
         const std::string what = bag + " " + pose_topic_ + " message " + std::to_string(n++);
-        const auto bytes = message_bytes(m);
+        const auto bytes = message_bytes(m, limits_, what);
         const ros1::StampedTransform t =
             odometry ? ros1::decode_odometry(bytes, what) : ros1::decode_pose_stamped(bytes, what);
         track_.add(t.header.stamp > 0 ? t.header.stamp : m.getTime().toSec(),
@@ -219,7 +227,7 @@ class RosbagSequence final : public ScanSource {
     std::size_t n = 0;
     for (const rosbag::MessageInstance& m : view) {
       const std::string what = bag + " " + m.getTopic() + " message " + std::to_string(n++);
-      for (const ros1::StampedTransform& t : ros1::decode_tf_message(message_bytes(m), what)) {
+      for (const ros1::StampedTransform& t : ros1::decode_tf_message(message_bytes(m, limits_, what), what)) {
         tf_.add(t, m.getTopic() == "/tf_static", what);
       }
     }

@@ -195,6 +195,12 @@ TEST_F(RosbagInput, BadBagsAreRefusedNamingWhatIsWrong) {
   EXPECT_THAT(wrong_type.err,
               HasSubstr("topic /points holds sensor_msgs/PointCloud2, not nav_msgs/Odometry"));
 
+  // A message larger than --max-file-mb is refused before it is read.
+  const auto too_big = run("ok.bag", "bad_run", "--max-file-mb 0.001");
+  EXPECT_EQ(too_big.exit_code, 1);
+  EXPECT_THAT(too_big.err, HasSubstr("/points message 0: "));
+  EXPECT_THAT(too_big.err, HasSubstr("bytes, more than --max-file-mb allows"));
+
   const std::string bytes = read_all(*dir_ / "ok.bag");
   for (const std::size_t keep : {bytes.size() / 2, std::size_t{100}, std::size_t{5}}) {
     std::ofstream(*dir_ / "cut.bag", std::ios::binary)
