@@ -189,7 +189,7 @@ TEST_F(ViewCommand, DrawsAPlannedPath) {
 
   std::ofstream(path_file)
       << R"({"found": false, "reason": "unreachable", "graph": "tree", "algorithm": "dijkstra",
-                                  "length": 0, "points": []})";
+                                  "length": 0, "points": [], "nodes": []})";
   r = view(quoted(run().string()) + " --path " + quoted(path_file.string()) + " --out " +
            quoted(page.string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -181,26 +181,20 @@ void graph_layers(const fs::path& file, const std::vector<segments::Segment>& se
 
 // path.json as `sarmap plan --out` writes it; a route not found draws nothing.
 Json path_layer(const fs::path& file, std::vector<std::string>& notes) {
-  const Json route = json_fields::read_file(file);
-  const Json& found = json_fields::member(route, "found", file, "route");
-  if (!found.is_boolean()) json_fields::fail(file, "route", "'found' must be true or false");
-  if (!found.get<bool>()) {
-    notes.push_back(file.string() + " holds no path, so no path is drawn");
+  const topo::Route route = topo::read_route_json(file);
+  if (!route.found) {
+    notes.push_back(file.string() + " holds no path (" + route.reason + "), so no path is drawn");
     return nullptr;
   }
-  const Json& points = json_fields::member(route, "points", file, "route");
-  if (!points.is_array()) json_fields::fail(file, "route", "'points' must be an array");
-  Json out = Json::array();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    out.push_back(vec3(json_fields::vector3(points[i], "points[" + std::to_string(i) + "]", file, "route")));
-  }
-  Json layer{{"count", out.size()},
-             {"points", std::move(out)},
-             {"length", json_fields::number(route, "length", file, "route")}};
-  for (const char* key : {"graph", "algorithm"}) {
-    if (route.contains(key) && route[key].is_string()) layer[key] = route[key];
-  }
-  return layer;
+  Json points = Json::array();
+  for (const Eigen::Vector3d& p : route.points) points.push_back(vec3(p));
+  return Json{
+      {"count", points.size()},
+      {"points", std::move(points)},
+      {"length", route.length},
+      {"graph", std::string(topo::to_string(route.graph))},
+      {"algorithm", route.graph == topo::RouteGraph::Grid ? std::string("wavefront")
+                                                          : std::string(topo::to_string(route.search))}};
 }
 
 // The sensor's positions, from the sequence the run read (manifest.json's
