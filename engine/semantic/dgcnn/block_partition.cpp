@@ -12,16 +12,21 @@
 #include "engine/core/error.hpp"
 
 namespace sarmap {
+std::pair<long long, long long> covering_block_range(double d, double s, double b) {
+  long long last = static_cast<long long>(std::floor(d / s));
+  long long first = static_cast<long long>(std::floor((d - b) / s)) + 1;
+  // Guard rounding at the edges: enforce the exact interval test.
+  while (first <= last && static_cast<double>(first) * s + b <= d) ++first;
+  while (last >= first && static_cast<double>(last) * s > d) --last;
+  return {first, last};
+}
+
 namespace {
 
 // Cell indices i >= 0 with i*s <= d < i*s + b, as [first, last].
 std::pair<long long, long long> cell_range(double d, double s, double b) {
-  long long last = static_cast<long long>(std::floor(d / s));
-  long long first = static_cast<long long>(std::floor((d - b) / s)) + 1;
+  auto [first, last] = covering_block_range(d, s, b);
   if (first < 0) first = 0;
-  // Guard rounding at the edges: enforce the exact interval test.
-  while (first <= last && first * s + b <= d) ++first;
-  while (last >= first && last * s > d) --last;
   return {first, last};
 }
 

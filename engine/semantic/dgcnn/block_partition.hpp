@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine/core/point_buffer.hpp"
@@ -31,6 +32,11 @@ struct BlockPartition {
   std::size_t dropped_points = 0;    // points that fall only in dropped blocks
   std::vector<std::uint8_t> covered; // per point: 1 when in at least one kept block
 };
+
+// The indices i of the blocks [i*stride, i*stride + block_size) that hold
+// coordinate d, as [first, last] (one axis; a grid fixed at 0). The one
+// definition of block membership, for scans and for the accumulated map.
+std::pair<long long, long long> covering_block_range(double d, double stride, double block_size);
 
 // Block (i, j) covers [ox + i*stride, ox + i*stride + block_size) in x (same in y),
 // with ox = floor(min x / stride) * stride so the grid is fixed in the world frame.

@@ -1,0 +1,208 @@
+// Blocks run in parallel, each reading only the map; their scores are then
+// fused serially in block order, so the result is thread-count independent.
+#include "engine/semantic/map/dgcnn_map_classifier.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "engine/core/classes.hpp"
+#include "engine/core/error.hpp"
+#include "engine/semantic/dgcnn/block_features.hpp"
+#include "engine/semantic/dgcnn/block_sampling.hpp"
+#include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
+#include "engine/semantic/dgcnn/score_carry_back.hpp"
+
+namespace sarmap {
+
+namespace {
+
+MapBlockSettings block_settings(const DgcnnModel& model, const DgcnnMapClassifierSettings& s) {
+  MapBlockSettings b;
+  b.block_size = model.metadata().block_size;
+  b.stride = s.stride > 0.0 ? s.stride : kDefaultStrideFraction * b.block_size;
+  b.min_points = s.min_points;
+  b.growth = s.growth;
+  return b;
+}
+
+const DgcnnModel& checked(const DgcnnModel& model) {
+  const DgcnnMetadata& m = model.metadata();
+  if (!m.has_preprocessing()) {
+    throw Error(ErrorCode::InvalidData, "DGCNN model lacks the sarmap.normalisation / sarmap.classes metadata "
+                                        "needed to label clouds");
+  }
+  if (m.classes.size() != model.classes()) {
+    throw Error(ErrorCode::InvalidData, "DGCNN model metadata names " + std::to_string(m.classes.size()) +
+                                            " classes but the network has " + std::to_string(model.classes()) +
+                                            " logits");
+  }
+  if (model.channels() != 6 && model.channels() != 9) {
+    throw Error(ErrorCode::Unsupported, "DGCNN model with " + std::to_string(model.channels()) +
+                                            " input channels; block features give 6 or 9");
+  }
+  return model;
+}
+
+// A seed per block and classification, so that a block classified again
+// draws other samples and no two blocks share theirs.
+std::uint64_t block_stream(const MapBlock& block) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (const std::uint64_t v : {static_cast<std::uint64_t>(block.i), static_cast<std::uint64_t>(block.j),
+                                static_cast<std::uint64_t>(block.classifications)}) {
+    h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  }
+  return h;
+}
+
+}  // namespace
+
+DgcnnMapClassifier::DgcnnMapClassifier(const DgcnnModel& model, const DgcnnMapClassifierSettings& settings)
+    : model_(checked(model)),
+      settings_(settings),
+      map_(settings.cell, model.classes()),
+      schedule_(block_settings(model, settings)) {}
+
+std::vector<std::uint8_t> DgcnnMapClassifier::classify_block(const MapBlock& mb, DgcnnWorkspace& workspace) const {
+  const DgcnnMetadata& m = model_.metadata();
+  const std::size_t classes = model_.classes();
+  const PointBuffer& points = map_.points();
+  Block block;
+  block.origin_x = static_cast<double>(mb.i) * schedule_.settings().stride;
+  block.origin_y = static_cast<double>(mb.j) * schedule_.settings().stride;
+  block.size = schedule_.settings().block_size;
+  block.points = mb.points;
+  const std::vector<std::uint32_t> samples =
+      sample_block(block.points.size(), m.points_per_block, settings_.seed, block_stream(mb));
+  std::vector<std::uint32_t> indices(samples.size());
+  for (std::size_t k = 0; k < samples.size(); ++k) indices[k] = block.points[samples[k]];
+  const BlockFrame frame{block.origin_x, block.origin_y, block.size, m.z_min, m.z_max};
+  const std::vector<float> features = block_features(points, indices, frame, model_.channels() == 9);
+  std::vector<float> logits(indices.size() * classes);
+  model_.forward(features.data(), indices.size(), logits.data(), workspace);
+  // Softmax per sample, quantised to the map's score scale.
+  std::vector<std::uint8_t> sample_scores(indices.size() * classes);
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    const float* row = logits.data() + k * classes;
+    const float top = *std::max_element(row, row + classes);
+    double sum = 0.0;
+    std::vector<double> e(classes);
+    for (std::size_t c = 0; c < classes; ++c) sum += (e[c] = std::exp(static_cast<double>(row[c] - top)));
+    for (std::size_t c = 0; c < classes; ++c) {
+      sample_scores[k * classes + c] = static_cast<std::uint8_t>(std::lround(e[c] / sum * kScoreScale));
+    }
+  }
+  // Every block point takes its own sample's scores or its nearest sample's.
+  const std::vector<std::uint32_t> nearest = nearest_sample(points, block, samples);
+  std::vector<std::uint8_t> scores(block.points.size() * classes);
+  for (std::size_t k = 0; k < block.points.size(); ++k) {
+    std::copy_n(sample_scores.data() + static_cast<std::size_t>(nearest[k]) * classes, classes,
+                scores.data() + k * classes);
+  }
+  return scores;
+}
+
+DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
+  if (model_.channels() == 9 && !scan.has_colors()) {
+    throw Error(ErrorCode::InvalidArgument, "the DGCNN model takes colours (9 channels) but the cloud has none");
+  }
+  DgcnnMapClassifyStats stats;
+  std::vector<std::uint32_t> added;
+  const std::vector<std::uint32_t> of_point = map_.insert(scan, added);
+  stats.map_points_added = added.size();
+  schedule_.add_points(map_.points(), added);
+  changed_ = added;
+
+  stats.blocks = classify_blocks(schedule_.ready());
+  stats.unlabelled = label_points(scan, of_point);
+  stats.vetoed_points = veto_steep_inclined_ramps(scan, settings_.ramp_veto);
+  return stats;
+}
+
+std::size_t DgcnnMapClassifier::classify_blocks(const std::vector<MapBlock*>& ready) {
+  std::vector<std::vector<std::uint8_t>> scores(ready.size());
+  tbb::enumerable_thread_specific<DgcnnWorkspace> workspaces;
+  tbb::parallel_for(std::size_t{0}, ready.size(),
+                    [&](std::size_t b) { scores[b] = classify_block(*ready[b], workspaces.local()); });
+  for (std::size_t b = 0; b < ready.size(); ++b) {
+    MapBlock& block = *ready[b];
+    map_.fuse(std::span(block.points).first(block.classified_points), block.scores, -1);
+    map_.fuse(block.points, scores[b], +1);
+    changed_.insert(changed_.end(), block.points.begin(), block.points.end());
+    block.scores = std::move(scores[b]);
+    block.classified_points = block.points.size();
+    ++block.classifications;
+  }
+  blocks_classified_ += ready.size();
+  return ready.size();
+}
+
+std::size_t DgcnnMapClassifier::finish() {
+  changed_.clear();
+  return classify_blocks(schedule_.unfinished());
+}
+
+std::size_t DgcnnMapClassifier::label_points(PointBuffer& points, std::span<const std::uint32_t> map_points) const {
+  const DgcnnMetadata& m = model_.metadata();
+  const std::size_t classes = model_.classes();
+  points.enable_labels();
+  std::vector<std::size_t> channels(classes);
+  for (std::size_t c = 0; c < classes; ++c) {
+    const std::string name(class_info(m.classes[c]).name);
+    const std::size_t existing = points.find_score(name);
+    channels[c] = existing < points.score_count() ? existing : points.add_score(name);
+  }
+  std::vector<float> mean(classes);
+  std::size_t unknown = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    // A point its block has not classified yet borrows the class of a
+    // classified neighbour a cell away, if it has one: the block will
+    // classify it when it has grown enough.
+    const std::uint32_t p = map_points[i] == LabelledPointMap::kNoPoint ? map_points[i]
+                                                                          : map_.scored_point(map_points[i]);
+    const int best = p == LabelledPointMap::kNoPoint ? -1 : map_.best_channel(p);
+    if (best < 0) {
+      std::fill(mean.begin(), mean.end(), 0.0f);
+      points.labels()[i] = static_cast<std::uint8_t>(ClassId::Unknown);
+      ++unknown;
+    } else {
+      map_.mean_scores(p, mean.data());
+      points.labels()[i] = static_cast<std::uint8_t>(m.classes[static_cast<std::size_t>(best)]);
+    }
+    for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[i] = mean[c];
+  }
+  return unknown;
+}
+
+std::size_t DgcnnMapClassifier::relabel(PointBuffer& points) const {
+  std::vector<std::uint32_t> of_point(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) of_point[i] = map_.find(points.x()[i], points.y()[i], points.z()[i]);
+  const std::size_t unknown = label_points(points, of_point);
+  veto_steep_inclined_ramps(points, settings_.ramp_veto);
+  return unknown;
+}
+
+void DgcnnMapClassifier::save_state(StateWriter& out) const {
+  out.tag("DMAP");
+  out.put<std::uint64_t>(blocks_classified_);
+  map_.save_state(out);
+  schedule_.save_state(out);
+}
+
+void DgcnnMapClassifier::load_state(StateReader& in) {
+  in.expect_tag("DMAP");
+  const auto blocks_classified = in.get<std::uint64_t>();
+  map_.load_state(in);
+  schedule_.load_state(in);
+  if (!schedule_.consistent_with(map_.size(), model_.classes())) {
+    in.fail("the map blocks name points the labelled point map does not hold, or scores of another class count");
+  }
+  blocks_classified_ = blocks_classified;
+}
+
+}  // namespace sarmap

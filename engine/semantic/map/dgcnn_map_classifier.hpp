@@ -1,0 +1,113 @@
+// Labels scans by classifying the accumulated map instead of each scan: the
+// scan's points join a labelled point map (one point per small cell), the
+// map's blocks that grew enough are classified with every map point in them
+// as input, their scores replace the block's earlier ones in its points, and
+// the scan's points take the classes of the map points they fall on. A
+// surface seen by many scans is classified a few times, each time from a
+// fuller view than one scan gives.
+//
+// Labels therefore arrive late: a point whose block has not reached its
+// minimum yet stays unknown, and a point's class can change when its block is
+// classified again. What depends on them: the metric map fuses the classes
+// each scan has when it is integrated (later scans of the same voxels fuse
+// the newer ones); the kept semantic points and the segments take theirs from
+// this map when asked (relabel()).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/core/state_stream.hpp"
+#include "engine/semantic/dgcnn/dgcnn_model.hpp"
+#include "engine/semantic/map/labelled_point_map.hpp"
+#include "engine/semantic/map/map_block_schedule.hpp"
+#include "engine/semantic/rules/steep_surface_veto.hpp"
+
+namespace sarmap {
+
+struct DgcnnMapClassifierSettings {
+  double cell = 0.025;           // metres: one map point per cell
+  double stride = 0.0;           // metres between block origins; <= 0: kDefaultStrideFraction x the block size
+  std::size_t min_points = 100;  // map points a block needs before it is first classified
+  double growth = 0.25;          // a block is classified again once it has grown by this fraction
+  std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
+  SteepSurfaceVetoSettings ramp_veto;  // on each scan's labels, as for per-scan classification
+};
+
+struct DgcnnMapClassifyStats {
+  std::size_t blocks = 0;          // blocks classified for this scan
+  std::size_t map_points_added = 0;
+  std::size_t unlabelled = 0;      // scan points whose map point has no class yet
+  std::size_t vetoed_points = 0;
+};
+
+class DgcnnMapClassifier {
+ public:
+  // Throws sarmap::Error for a model without preprocessing metadata, a class
+  // count that disagrees with the network, or bad settings.
+  DgcnnMapClassifier(const DgcnnModel& model, const DgcnnMapClassifierSettings& settings);
+
+  // Adds the scan's points to the map, classifies the blocks that are ready,
+  // then sets the scan's labels and one score channel per model class from
+  // the map. Runs the blocks in parallel in the caller's TBB arena; the
+  // result does not depend on the thread count.
+  DgcnnMapClassifyStats classify(PointBuffer& scan);
+  // Classifies every block still holding points no classification has seen
+  // (when the scans end: blocks wait for growth or a quiet scan otherwise);
+  // returns how many. changed_points() then lists their points.
+  std::size_t finish();
+  // Lets go of every map point where forget(x, y, z) is true (the region a
+  // bounded map dropped), with its place in the blocks; the blocks keep the
+  // scores of the rest, so no point's class changes. Returns how many.
+  template <class Predicate>
+  std::size_t forget(Predicate&& forget);
+  // Sets labels and score channels of `points` from the map points of their
+  // cells (unknown and zeros where there is none or it has no class yet),
+  // without adding them, then applies the veto as classify() does. Returns
+  // how many stay unknown.
+  std::size_t relabel(PointBuffer& points) const;
+
+  const LabelledPointMap& map() const { return map_; }
+  // The class of each score channel of the map's points.
+  const std::vector<ClassId>& channel_classes() const { return model_.metadata().classes; }
+  const MapBlockSchedule& blocks() const { return schedule_; }
+  std::size_t blocks_classified() const { return blocks_classified_; }
+  // The map points the last classify() added or classified again (possibly
+  // with repeats): what holds classes that changed.
+  const std::vector<std::uint32_t>& changed_points() const { return changed_; }
+
+  void save_state(StateWriter& out) const;
+  void load_state(StateReader& in);
+
+ private:
+  std::vector<std::uint8_t> classify_block(const MapBlock& block, DgcnnWorkspace& workspace) const;
+  // Classifies the blocks in parallel and fuses their scores in order.
+  std::size_t classify_blocks(const std::vector<MapBlock*>& blocks);
+  std::size_t label_points(PointBuffer& points, std::span<const std::uint32_t> map_points) const;
+
+  const DgcnnModel& model_;
+  DgcnnMapClassifierSettings settings_;
+  LabelledPointMap map_;
+  MapBlockSchedule schedule_;
+  std::size_t blocks_classified_ = 0;
+  std::vector<std::uint32_t> changed_;
+};
+
+template <class Predicate>
+std::size_t DgcnnMapClassifier::forget(Predicate&& forget) {
+  const PointBuffer& points = map_.points();
+  std::vector<std::uint8_t> keep(points.size());
+  std::size_t forgotten = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    keep[p] = forget(points.x()[p], points.y()[p], points.z()[p]) ? 0 : 1;
+    forgotten += 1 - keep[p];
+  }
+  if (forgotten == 0) return 0;
+  schedule_.renumber(map_.keep_only(keep), model_.classes());
+  changed_.clear();
+  return forgotten;
+}
+
+}  // namespace sarmap

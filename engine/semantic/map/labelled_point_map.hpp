@@ -1,0 +1,114 @@
+// The accumulated map the network classifies: the scans' points thinned to
+// one point per cell of a 3-D grid (the first point seen in the cell stays),
+// each with its per-class scores fused over the DGCNN blocks that classified
+// it. Scores are kept as integer sums of softmax probabilities quantised to
+// 1/255, so a block's old contribution can be taken out exactly when the
+// block is classified again, in any order, with the same result.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/core/point_buffer.hpp"
+#include "engine/core/state_stream.hpp"
+#include "engine/semantic/grid_keys.hpp"
+
+namespace sarmap {
+
+// A map point's quantised probability of one class: round(p * kScoreScale).
+inline constexpr std::uint32_t kScoreScale = 255;
+
+class LabelledPointMap {
+ public:
+  static constexpr std::uint32_t kNoPoint = 0xffffffffu;
+
+  // One kept point per `cell` metres (>= 1 cm) and `classes` score channels.
+  // Throws sarmap::Error (InvalidArgument) otherwise.
+  LabelledPointMap(double cell, std::size_t classes);
+
+  double cell() const { return cell_; }
+  std::size_t classes() const { return classes_; }
+  std::size_t size() const { return points_.size(); }
+  // Positions (and colours when the scans had them) of the kept points.
+  const PointBuffer& points() const { return points_; }
+
+  // For each scan point, the index of the map point of its cell; cells not
+  // held yet take the scan point as their map point. Points beyond 10 km
+  // (which the metric map rejects) or not finite get kNoPoint.
+  // `added` receives the indices of the map points this call created.
+  std::vector<std::uint32_t> insert(const PointBuffer& scan, std::vector<std::uint32_t>& added);
+  // The map point of the cell holding (x, y, z), or kNoPoint.
+  std::uint32_t find(double x, double y, double z) const;
+  // The classified map point nearest to (x, y, z) among the 3 x 3 x 3 cells
+  // around its cell (the lowest index on ties), or kNoPoint.
+  std::uint32_t nearest_classified(double x, double y, double z) const;
+
+  // The point whose scores stand for p's: p once a block has classified it,
+  // else its nearest classified neighbour (nearest_classified), else kNoPoint.
+  std::uint32_t scored_point(std::uint32_t p) const {
+    return hits_[p] > 0 ? p : nearest_classified(points_.x()[p], points_.y()[p], points_.z()[p]);
+  }
+  // Calls fn(p) for every map point whose cell overlaps the box [lo, hi]
+  // (so possibly for points up to a cell outside it).
+  template <class Fn>
+  void for_each_near_box(const double lo[3], const double hi[3], Fn&& fn) const;
+
+  // Adds (sign +1) or takes out (sign -1) one block's quantised scores of
+  // `points` (points.size() x classes, row-major).
+  void fuse(std::span<const std::uint32_t> points, std::span<const std::uint8_t> scores, int sign);
+
+  // How many block classifications point p's scores hold (0: unclassified).
+  std::uint32_t hits(std::uint32_t p) const { return hits_[p]; }
+  // Mean probabilities of point p over its blocks into out[0 .. classes);
+  // zeros when hits(p) == 0.
+  void mean_scores(std::uint32_t p, float* out) const;
+  // The channel with the highest mean score (the first on ties), or -1 when
+  // unclassified.
+  int best_channel(std::uint32_t p) const;
+
+  // Keeps only the points whose keep[p] is non-zero, in order, with their
+  // cells and scores; returns for every old index its new one or kNoPoint.
+  std::vector<std::uint32_t> keep_only(const std::vector<std::uint8_t>& keep);
+
+  // Bytes held: points, cell index and score sums.
+  std::size_t memory_bytes() const;
+
+  void save_state(StateWriter& out) const;
+  // Throws sarmap::Error (Parse) for another cell size or class count, or
+  // arrays that disagree in length.
+  void load_state(StateReader& in);
+
+ private:
+  std::uint64_t cell_key(double x, double y, double z) const;
+
+  double cell_;
+  double inverse_cell_;
+  std::size_t classes_;
+  PointBuffer points_;
+  std::unordered_map<std::uint64_t, std::uint32_t> index_;  // cell key -> point
+  std::vector<std::uint32_t> sums_;                          // size() x classes
+  std::vector<std::uint32_t> hits_;
+};
+
+template <class Fn>
+void LabelledPointMap::for_each_near_box(const double lo[3], const double hi[3], Fn&& fn) const {
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::abs(lo[a]) <= 1.0e4 && std::abs(hi[a]) <= 1.0e4 && lo[a] <= hi[a])) return;
+  }
+  const auto first = [&](int a) { return static_cast<std::int64_t>(std::floor(lo[a] * inverse_cell_)); };
+  const auto last = [&](int a) { return static_cast<std::int64_t>(std::floor(hi[a] * inverse_cell_)); };
+  for (std::int64_t i = first(0); i <= last(0); ++i) {
+    for (std::int64_t j = first(1); j <= last(1); ++j) {
+      for (std::int64_t k = first(2); k <= last(2); ++k) {
+        const auto it = index_.find(grid_keys::cell_key(i, j, k));
+        if (it != index_.end()) fn(it->second);
+      }
+    }
+  }
+}
+
+}  // namespace sarmap

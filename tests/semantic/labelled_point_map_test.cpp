@@ -1,0 +1,199 @@
+// Tests LabelledPointMap (one point per cell, exact score fusion) and
+// MapBlockSchedule (membership and when a block is ready) against plain
+// definitions on random and edge-case inputs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <map>
+#include <tuple>
+
+#include "engine/core/error.hpp"
+#include "engine/semantic/dgcnn/block_partition.hpp"
+#include "engine/semantic/map/labelled_point_map.hpp"
+#include "engine/semantic/map/map_block_schedule.hpp"
+
+namespace sarmap {
+namespace {
+
+PointBuffer random_points(std::size_t n, unsigned seed, float extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-extent, extent);
+  PointBuffer points;
+  for (std::size_t i = 0; i < n; ++i) points.push_back(u(rng), u(rng), 0.5f * u(rng));
+  return points;
+}
+
+TEST(LabelledPointMap, KeepsTheFirstPointOfEachCell) {
+  LabelledPointMap map(0.1, 3);
+  const PointBuffer scan = random_points(5000, 1, 1.0f);
+  std::vector<std::uint32_t> added;
+  const std::vector<std::uint32_t> of_point = map.insert(scan, added);
+  // Reference: the cells in order of first appearance.
+  std::map<std::tuple<long, long, long>, std::size_t> first;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    first.try_emplace({std::lround(std::floor(scan.x()[i] / 0.1)), std::lround(std::floor(scan.y()[i] / 0.1)),
+                       std::lround(std::floor(scan.z()[i] / 0.1))},
+                      i);
+  }
+  ASSERT_EQ(map.size(), first.size());
+  EXPECT_EQ(added.size(), first.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const std::uint32_t p = of_point[i];
+    ASSERT_LT(p, map.size());
+    const std::size_t owner = first.at({std::lround(std::floor(scan.x()[i] / 0.1)),
+                                        std::lround(std::floor(scan.y()[i] / 0.1)),
+                                        std::lround(std::floor(scan.z()[i] / 0.1))});
+    EXPECT_EQ(map.points().x()[p], scan.x()[owner]);
+    EXPECT_EQ(map.points().z()[p], scan.z()[owner]);
+    EXPECT_EQ(map.find(scan.x()[i], scan.y()[i], scan.z()[i]), p);
+  }
+  // The same points again add nothing.
+  map.insert(scan, added);
+  EXPECT_TRUE(added.empty());
+  EXPECT_EQ(map.size(), first.size());
+}
+
+TEST(LabelledPointMap, SkipsPointsBeyondTheMapLimitsAndNonFiniteOnes) {
+  LabelledPointMap map(0.025, 2);
+  PointBuffer scan;
+  scan.push_back(0.0f, 0.0f, 0.0f);
+  scan.push_back(2.0e4f, 0.0f, 0.0f);
+  scan.push_back(std::nanf(""), 0.0f, 0.0f);
+  scan.push_back(-1.0e4f, 1.0e4f, -1.0e4f);  // at the limit: kept
+  std::vector<std::uint32_t> added;
+  const std::vector<std::uint32_t> of_point = map.insert(scan, added);
+  EXPECT_EQ(map.size(), 2u);
+  EXPECT_EQ(of_point[1], LabelledPointMap::kNoPoint);
+  EXPECT_EQ(of_point[2], LabelledPointMap::kNoPoint);
+  EXPECT_EQ(map.find(2.0e4, 0, 0), LabelledPointMap::kNoPoint);
+  EXPECT_EQ(map.best_channel(of_point[0]), -1);
+}
+
+TEST(LabelledPointMap, FusionTakesABlockOutExactlyInAnyOrder) {
+  LabelledPointMap map(0.05, 4);
+  std::vector<std::uint32_t> added;
+  map.insert(random_points(400, 2, 0.5f), added);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> score(0, 255);
+  std::vector<std::uint32_t> all(map.size());
+  for (std::uint32_t p = 0; p < map.size(); ++p) all[p] = p;
+  std::vector<std::vector<std::uint8_t>> blocks(5, std::vector<std::uint8_t>(all.size() * 4));
+  for (auto& b : blocks) {
+    for (auto& s : b) s = static_cast<std::uint8_t>(score(rng));
+  }
+  for (const auto& b : blocks) map.fuse(all, b, +1);
+  map.fuse(all, blocks[3], -1);
+  map.fuse(all, blocks[0], -1);
+  std::vector<float> mean(4);
+  for (std::uint32_t p = 0; p < map.size(); ++p) {
+    ASSERT_EQ(map.hits(p), 3u);
+    map.mean_scores(p, mean.data());
+    for (std::size_t c = 0; c < 4; ++c) {
+      const double expected = (blocks[1][p * 4 + c] + blocks[2][p * 4 + c] + blocks[4][p * 4 + c]) / (3.0 * 255.0);
+      EXPECT_NEAR(mean[c], expected, 1e-6);
+    }
+  }
+  map.fuse(all, blocks[1], -1);
+  map.fuse(all, blocks[2], -1);
+  map.fuse(all, blocks[4], -1);
+  for (std::uint32_t p = 0; p < map.size(); ++p) EXPECT_EQ(map.best_channel(p), -1);
+  EXPECT_THROW(map.fuse(all, std::vector<std::uint8_t>(3), +1), Error);
+}
+
+TEST(LabelledPointMap, StateReloadsAndRefusesAnotherCell) {
+  LabelledPointMap map(0.05, 2);
+  std::vector<std::uint32_t> added;
+  map.insert(random_points(300, 3, 1.0f), added);
+  std::vector<std::uint8_t> scores(added.size() * 2, 100);
+  map.fuse(added, scores, +1);
+  StateWriter out;
+  map.save_state(out);
+  LabelledPointMap again(0.05, 2);
+  StateReader in(out.bytes(), "state");
+  again.load_state(in);
+  ASSERT_EQ(again.size(), map.size());
+  for (std::uint32_t p = 0; p < map.size(); ++p) {
+    EXPECT_EQ(again.find(map.points().x()[p], map.points().y()[p], map.points().z()[p]), p);
+    EXPECT_EQ(again.hits(p), 1u);
+  }
+  LabelledPointMap other(0.1, 2);
+  StateReader in2(out.bytes(), "state");
+  EXPECT_THROW(other.load_state(in2), Error);
+  EXPECT_THROW(LabelledPointMap(0.005, 2), Error);
+  EXPECT_THROW(LabelledPointMap(0.05, 0), Error);
+}
+
+TEST(MapBlockSchedule, EachPointJoinsEveryBlockThatHoldsIt) {
+  MapBlockSettings settings;
+  settings.min_points = 1;
+  MapBlockSchedule schedule(settings);
+  const PointBuffer points = random_points(2000, 4, 3.0f);
+  std::vector<std::uint32_t> all(points.size());
+  for (std::uint32_t p = 0; p < points.size(); ++p) all[p] = p;
+  schedule.add_points(points, all);
+  // Reference: the exact interval test over a window of block indices.
+  std::map<std::pair<long long, long long>, std::vector<std::uint32_t>> expected;
+  for (std::uint32_t p = 0; p < points.size(); ++p) {
+    for (long long j = -8; j <= 8; ++j) {
+      for (long long i = -8; i <= 8; ++i) {
+        const double x = points.x()[p], y = points.y()[p];
+        if (i * 0.75 <= x && x < i * 0.75 + 1.0 && j * 0.75 <= y && y < j * 0.75 + 1.0) expected[{j, i}].push_back(p);
+      }
+    }
+  }
+  EXPECT_EQ(schedule.block_count(), expected.size());
+  for (const auto& [key, members] : expected) {
+    const MapBlock* block = schedule.find(key.second, key.first);
+    ASSERT_NE(block, nullptr);
+    EXPECT_EQ(block->points, members);
+  }
+  // Points exactly on block edges belong to the block that starts there.
+  MapBlockSchedule edges(settings);
+  PointBuffer on_edge;
+  on_edge.push_back(0.75f, 1.5f, 0.0f);
+  const std::vector<std::uint32_t> first{0};
+  edges.add_points(on_edge, first);
+  EXPECT_NE(edges.find(1, 2), nullptr);
+  EXPECT_NE(edges.find(0, 1), nullptr);
+  EXPECT_EQ(edges.find(0, 0), nullptr);  // [0, 1) in x holds 0.75 but [0, 1) in y misses 1.5
+  EXPECT_EQ(edges.block_count(), 4u);
+}
+
+TEST(MapBlockSchedule, ABlockIsReadyAtItsMinimumThenOnlyAfterGrowingEnough) {
+  MapBlockSettings settings;
+  settings.block_size = 1.0;
+  settings.stride = 1.0;
+  settings.min_points = 100;
+  settings.growth = 0.25;
+  MapBlockSchedule schedule(settings);
+  PointBuffer points;
+  std::vector<std::uint32_t> batch;
+  auto add = [&](int n) {
+    batch.clear();
+    for (int k = 0; k < n; ++k) {
+      batch.push_back(static_cast<std::uint32_t>(points.size()));
+      points.push_back(0.5f, 0.5f, 0.0f);
+    }
+    schedule.add_points(points, batch);
+  };
+  add(99);
+  EXPECT_TRUE(schedule.ready().empty());
+  add(1);
+  std::vector<MapBlock*> ready = schedule.ready();
+  ASSERT_EQ(ready.size(), 1u);
+  ready[0]->classified_points = ready[0]->points.size();  // as the classifier does
+  add(24);  // 124 < 1.25 x 100
+  EXPECT_TRUE(schedule.ready().empty());
+  add(1);  // 125
+  ready = schedule.ready();
+  ASSERT_EQ(ready.size(), 1u);
+  ready[0]->classified_points = ready[0]->points.size();
+  EXPECT_TRUE(schedule.ready().empty());  // nothing grew since
+  EXPECT_THROW(MapBlockSchedule({1.0, 1.5, 100, 0.25}), Error);
+  EXPECT_THROW(MapBlockSchedule({1.0, 0.01, 100, 0.25}), Error);
+  EXPECT_THROW(MapBlockSchedule({1.0, 0.5, 100, -1.0}), Error);
+}
+
+}  // namespace
+}  // namespace sarmap
