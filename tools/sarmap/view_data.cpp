@@ -118,12 +118,12 @@ Json free_layer(const fs::path& file, std::size_t budget) {
     const auto mod = [s](std::int32_t c) { return ((c % s) + s) % s; };
     return mod(k.x) == 0 && mod(k.y) == 0 && mod(k.z) == 0;
   };
+  const auto count_on_lattice = [&](int s) {
+    return static_cast<std::size_t>(
+        std::count_if(free.begin(), free.end(), [&](const metric::VoxelKey& k) { return on_lattice(k, s); }));
+  };
   int stride = 1;
-  while (stride<kMaxStride&& static_cast<std::size_t>(std::count_if(
-             free.begin(), free.end(), [&](const metric::VoxelKey& k) { return on_lattice(k, stride); }))>
-             budget) {
-    ++stride;
-  }
+  while (stride < kMaxStride && count_on_lattice(stride) > budget) ++stride;
   std::vector<metric::VoxelKey> lattice;
   for (const metric::VoxelKey& k : free) {
     if (on_lattice(k, stride)) lattice.push_back(k);
