@@ -59,6 +59,16 @@ ClassId MetricMap::class_at(const Eigen::Vector3d& point) const {
   return key ? class_of(*key) : ClassId::Unknown;
 }
 
+bool MetricMap::replace_evidence(const VoxelKey& key, const ClassObservation& observation) {
+  Blocks::Block* block = blocks_.find(block_of(key));
+  if (block == nullptr) return false;
+  SemanticVoxel& voxel = block->voxels[local_index(key)];
+  if (!voxel.known()) return false;
+  voxel.evidence = {};
+  fusion_.observe(voxel.evidence, observation);
+  return true;
+}
+
 ClassEvidence MetricMap::evidence(const VoxelKey& key) const {
   const SemanticVoxel* v = blocks_.voxel(key);
   return v ? v->evidence : ClassEvidence{};

@@ -64,6 +64,10 @@ class MetricMap {
   ClassId class_at(const Eigen::Vector3d& point) const;
   // Class evidence of a voxel (zeros if unknown).
   ClassEvidence evidence(const VoxelKey& key) const;
+  // Replaces a known voxel's class evidence with what one observation says
+  // (its classes decided elsewhere, e.g. by the classifier of the
+  // accumulated map); false, and nothing changed, for a voxel not known.
+  bool replace_evidence(const VoxelKey& key, const ClassObservation& observation);
 
   // Counts every voxel; costs a pass over all blocks.
   MapCounts counts() const;

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <utility>
 
+#include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/metric/voxel_key.hpp"
 
@@ -105,6 +106,9 @@ void Mapper::run_stages(Scan& scan) {
                 {"wall_bands", counts.wall_bands},
                 {"ramp_sides", counts.ramp_sides},
                 {"wall_feet", counts.wall_feet}});
+    if (classifier_->labels_arrive_late()) {
+      profile_.add_count("classify", "map_points_added", static_cast<double>(counts.map_points_added));
+    }
   }
   {
     const auto timer = profile_.time("metric");
@@ -116,6 +120,10 @@ void Mapper::run_stages(Scan& scan) {
                 {"rays", s.rays},
                 {"voxel_visits", s.voxel_visits},
                 {"voxels_updated", s.hits + s.misses}});
+    if (classifier_->accumulated_map() != nullptr) {
+      profile_.add_count("metric", "voxels_classed_from_point_map",
+                         static_cast<double>(take_voxel_classes_from_point_map(classes_changed_)));
+    }
     // Scans too large for the dense scratch run slower through hash tables (IntegratorSettings).
     profile_.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
     if (config_.bounds.limited()) {
@@ -144,6 +152,8 @@ void Mapper::run_stages(Scan& scan) {
     // The scan changed voxels only between its origin and its points.
     Bounds changed = scan.points.bounds();
     changed.extend(scan.origin);
+    changed.extend(classes_changed_);
+    classes_changed_ = {};
     const topo::TopoUpdate u = topo_.update(segments_, map_, &changed);
     add_counts(profile_, "topo",
                {{"nodes_added", u.nodes_added},
@@ -157,13 +167,74 @@ void Mapper::run_stages(Scan& scan) {
   keep_semantic_points(scan.points);
 }
 
+void Mapper::finish() {
+  if (classifier_->accumulated_map() == nullptr) return;
+  Bounds changed;
+  {
+    const auto timer = profile_.time("classify");
+    profile_.add_count("classify", "blocks_at_finish", static_cast<double>(classifier_->finish()));
+  }
+  {
+    const auto timer = profile_.time("metric");
+    profile_.add_count("metric", "voxels_classed_from_point_map",
+                       static_cast<double>(take_voxel_classes_from_point_map(changed)));
+  }
+  if (changed.empty()) return;
+  // The topological map follows the classes the last blocks gave.
+  const auto timer = profile_.time("topo");
+  topo_.update(segments_, map_, &changed);
+}
+
 bool Mapper::forgetting_due() const {
   return blocks_dropped_unforgotten_ > 0 && blocks_dropped_unforgotten_ * 8 >= map_.blocks().block_count();
 }
 
 bool Mapper::in_kept_block(double x, double y, double z) const {
   return metric::within_map_limits(x, y, z) &&
-         map_.blocks().voxel(metric::key_of(x, y, z, 1.0 / map_.resolution())) != nullptr;
+         map_.blocks().voxel(metric::key_of(x, y, z, map_.inv_resolution())) != nullptr;
+}
+
+std::size_t Mapper::take_voxel_classes_from_point_map(Bounds& changed_region) {
+  const DgcnnMapClassifier& classifier = *classifier_->accumulated_map();
+  const LabelledPointMap& points = classifier.map();
+  const std::vector<ClassId>& classes = classifier.channel_classes();
+  const double inv = map_.inv_resolution(), res = map_.resolution();
+  const auto voxel_of = [&](std::uint32_t p) {
+    return metric::key_of(points.points().x()[p], points.points().y()[p], points.points().z()[p], inv);
+  };
+  std::vector<std::uint64_t> voxels;
+  voxels.reserve(classifier.changed_points().size());
+  for (const std::uint32_t p : classifier.changed_points()) voxels.push_back(metric::pack(voxel_of(p)));
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  std::vector<float> mean(classes.size());
+  std::size_t changed = 0;
+  for (const std::uint64_t word : voxels) {
+    const metric::VoxelKey key = metric::unpack_voxel(word);
+    const double lo[3] = {key.x * res, key.y * res, key.z * res};
+    const double hi[3] = {lo[0] + res, lo[1] + res, lo[2] + res};
+    // One observation of the voxel's map points, each with its mean scores.
+    metric::ClassObservation observation;
+    points.for_each_near_box(lo, hi, [&](std::uint32_t p) {
+      if (voxel_of(p) != key) return;
+      const std::uint32_t scored = points.scored_point(p);
+      if (scored == LabelledPointMap::kNoPoint) return;
+      points.mean_scores(scored, mean.data());
+      const auto best = static_cast<std::size_t>(points.best_channel(scored));
+      ++observation.counts[static_cast<std::size_t>(classes[best])];
+      for (std::size_t c = 0; c < classes.size(); ++c) {
+        observation.score_sums[static_cast<std::size_t>(classes[c])] += mean[c];
+      }
+      ++observation.points;
+    });
+    if (observation.points == 0) continue;
+    observation.has_scores = true;
+    if (map_.replace_evidence(key, observation)) {
+      ++changed;
+      changed_region.extend(map_.center_of(key));
+    }
+  }
+  return changed;
 }
 
 void Mapper::forget_dropped_regions() {
@@ -173,6 +244,12 @@ void Mapper::forget_dropped_regions() {
     const segments::SegmentUpdate u =
         segments_.forget([&](const Eigen::Vector3d& p) { return !in_kept_block(p.x(), p.y(), p.z()); });
     add_counts(profile_, "segment", {{"points_forgotten", u.points_forgotten}, {"removed", u.removed}});
+  }
+  {
+    const auto timer = profile_.time("classify");
+    const std::size_t points = classifier_->forget(
+        [&](double x, double y, double z) { return !in_kept_block(x, y, z); });
+    profile_.add_count("classify", "map_points_forgotten", static_cast<double>(points));
   }
   std::vector<std::uint32_t> keep;
   keep.reserve(semantic_points_.size());
@@ -192,10 +269,14 @@ void Mapper::forget_dropped_regions() {
 void Mapper::keep_semantic_points(const PointBuffer& points) {
   if (config_.semantic_points_voxel <= 0) return;
   const double inv = 1.0 / config_.semantic_points_voxel;
+  // Where labels arrive late, a voxel keeps its first classified point: an
+  // unknown one now would hide the class a later scan brings.
+  const bool skip_unknown = classifier_->labels_arrive_late() && points.has_labels();
   std::vector<std::uint32_t> keep;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
     if (!metric::within_map_limits(x, y, z)) continue;
+    if (skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown)) continue;
     const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
     if (semantic_keys_.insert(key).second) {
       keep.push_back(i);

@@ -70,6 +70,13 @@ class Mapper {
   // a caller may skip the scan and go on (`sarmap run` does, unless --strict).
   void integrate(Scan& scan);
 
+  // The scans have ended: where classes come from the accumulated map, the
+  // blocks still waiting for more points are classified and the metric map's
+  // voxels take their classes (profile: classify.blocks_at_finish). Call it
+  // before reading the final maps; the segments and the topological map keep
+  // the classes their scans had. Scans may still follow.
+  void finish();
+
   const MapperConfig& config() const { return config_; }
   double max_range() const { return integrator_.settings().max_range; }
   const metric::MetricMap& metric_map() const { return map_; }
@@ -110,6 +117,11 @@ class Mapper {
   // are enough to make it worth one.
   bool forgetting_due() const;
   bool in_kept_block(double x, double y, double z) const;
+  // Where classes come from the accumulated map: the voxels holding map
+  // points that the last scan added or classified again take their class
+  // evidence from those points. Returns how many voxels changed; `changed`
+  // grows by their centres (the topological map must look there again).
+  std::size_t take_voxel_classes_from_point_map(Bounds& changed);
 
   MapperConfig config_;
   metric::MetricMap map_;
@@ -123,6 +135,7 @@ class Mapper {
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;
+  Bounds classes_changed_;  // voxels the classifier of the accumulated map relabelled, for the next topo update
   std::unordered_set<std::uint64_t> semantic_keys_;  // voxels already holding a kept point
   std::vector<std::uint64_t> semantic_point_keys_;   // per kept point, its voxel
 };

@@ -37,6 +37,9 @@ void visit_config(V& v, C& c) {
   v.group("classifier", [&] {
     v.field("kind", k.kind);
     v.field("model", k.model);
+    v.field("per_scan", k.per_scan);
+    v.field("map_cell", k.map_cell);
+    v.field("map_growth", k.map_growth);
     v.group("dgcnn", [&] {
       v.field("stride", k.dgcnn.stride);
       v.field("min_points", k.dgcnn.min_points);

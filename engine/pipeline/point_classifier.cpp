@@ -1,6 +1,7 @@
 #include "engine/pipeline/point_classifier.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
@@ -43,25 +44,56 @@ class GeometricPointClassifier final : public PointClassifier {
   GeometricClassifier classifier_;
 };
 
+DgcnnMapClassifierSettings map_settings(const ClassifierConfig& config) {
+  DgcnnMapClassifierSettings s;
+  s.cell = config.map_cell;
+  s.stride = config.dgcnn.stride;
+  s.min_points = config.dgcnn.min_points;
+  s.growth = config.map_growth;
+  s.seed = config.dgcnn.seed;
+  s.ramp_veto = config.dgcnn.ramp_veto;
+  return s;
+}
+
 class DgcnnPointClassifier final : public PointClassifier {
  public:
-  DgcnnPointClassifier(const std::filesystem::path& model, const DgcnnClassifierSettings& settings,
-                       const WallBandSettings& wall_bands, const RampSideSettings& ramp_sides,
-                       const WallFootSettings& wall_feet)
-      : model_(DgcnnModel::load(model)),
-        classifier_(model_, settings),
-        wall_bands_(wall_bands),
-        ramp_decks_(ramp_sides),
-        wall_feet_(wall_feet) {
+  explicit DgcnnPointClassifier(const ClassifierConfig& config)
+      : model_(DgcnnModel::load(config.model)),
+        wall_bands_(config.wall_bands),
+        ramp_decks_(config.ramp_sides),
+        wall_feet_(config.wall_feet) {
+    if (config.per_scan) {
+      per_scan_.emplace(model_, config.dgcnn);
+    } else {
+      on_map_.emplace(model_, map_settings(config));
+    }
     validate(wall_bands_);
     validate(wall_feet_);
   }
-  std::string_view name() const override { return "dgcnn"; }
+  std::string_view name() const override { return on_map_ ? "dgcnn-map" : "dgcnn"; }
+  const DgcnnMapClassifier* accumulated_map() const override { return on_map_ ? &*on_map_ : nullptr; }
+  std::size_t relabel(PointBuffer& points) const override {
+    return on_map_ ? on_map_->relabel(points) : PointClassifier::relabel(points);
+  }
+  std::size_t finish() override { return on_map_ ? on_map_->finish() : 0; }
+  std::size_t forget(const std::function<bool(double, double, double)>& forget) override {
+    return on_map_ ? on_map_->forget(forget) : 0;
+  }
+  std::size_t memory_bytes() const override {
+    return on_map_ ? on_map_->map().memory_bytes() + on_map_->blocks().memory_bytes() : 0;
+  }
   ClassifyCounts classify(PointBuffer& points) override {
-    const DgcnnClassifyStats stats = classifier_.classify(points);
     ClassifyCounts counts;
-    counts.blocks = stats.blocks;
-    counts.vetoed = stats.vetoed_points;
+    if (on_map_) {
+      const DgcnnMapClassifyStats stats = on_map_->classify(points);
+      counts.blocks = stats.blocks;
+      counts.vetoed = stats.vetoed_points;
+      counts.map_points_added = stats.map_points_added;
+    } else {
+      const DgcnnClassifyStats stats = per_scan_->classify(points);
+      counts.blocks = stats.blocks;
+      counts.vetoed = stats.vetoed_points;
+    }
     // Wall bands first: a ramp's side the network called other, once wall,
     // is then found under its deck.
     counts.wall_bands = label_wall_bands(points, wall_bands_);
@@ -74,21 +106,28 @@ class DgcnnPointClassifier final : public PointClassifier {
   void save_state(StateWriter& out) const override {
     PointClassifier::save_state(out);
     ramp_decks_.save_state(out);
+    if (on_map_) on_map_->save_state(out);
   }
   void load_state(StateReader& in) override {
     PointClassifier::load_state(in);
     ramp_decks_.load_state(in);
+    if (on_map_) on_map_->load_state(in);
   }
 
  private:
-  DgcnnModel model_;  // declared before classifier_, which keeps a reference to it
-  DgcnnClassifier classifier_;
+  DgcnnModel model_;  // declared before the classifiers, which keep a reference to it
+  std::optional<DgcnnClassifier> per_scan_;
+  std::optional<DgcnnMapClassifier> on_map_;
   WallBandSettings wall_bands_;
   RampDeckMemory ramp_decks_;  // the ramp decks of every scan so far
   WallFootSettings wall_feet_;
 };
 
 }  // namespace
+
+std::size_t PointClassifier::relabel(PointBuffer& points) const {
+  return points.has_labels() ? count_unknown(points) : points.size();
+}
 
 void PointClassifier::save_state(StateWriter& out) const {
   out.tag("CLSF");
@@ -127,8 +166,7 @@ std::unique_ptr<PointClassifier> make_point_classifier(const ClassifierConfig& c
       if (config.model.empty()) {
         throw Error(ErrorCode::InvalidArgument, "classifier dgcnn needs a model file (--model M.safetensors)");
       }
-      return std::make_unique<DgcnnPointClassifier>(config.model, config.dgcnn, config.wall_bands,
-                                                    config.ramp_sides, config.wall_feet);
+      return std::make_unique<DgcnnPointClassifier>(config);
   }
   throw Error(ErrorCode::InvalidArgument,
               "unknown classifier kind " + std::to_string(static_cast<int>(config.kind)));

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -16,6 +17,7 @@
 #include "engine/core/state_stream.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/geometric/geometric_classifier.hpp"
+#include "engine/semantic/map/dgcnn_map_classifier.hpp"
 #include "engine/semantic/rules/ramp_side_faces.hpp"
 #include "engine/semantic/rules/wall_bands.hpp"
 #include "engine/semantic/rules/wall_feet.hpp"
@@ -46,6 +48,13 @@ struct ClassifierConfig {
   ClassifierKind kind = ClassifierKind::Dgcnn;
   std::filesystem::path model;  // dgcnn only; required for it
   DgcnnClassifierSettings dgcnn = pipeline_dgcnn_settings();
+  // dgcnn: classify each scan on its own instead of the accumulated map
+  // (engine/semantic/map/dgcnn_map_classifier.hpp), whose cell and growth
+  // come from map_cell and map_growth; the stride, minimum points, seed and
+  // veto above serve both.
+  bool per_scan = false;
+  double map_cell = 0.025;
+  double map_growth = 0.25;
   // dgcnn, after the network and its veto: patches labelled other (with
   // wall) longer than a box become wall, then wall and other labels under a
   // ramp deck seen in this scan or an earlier one become inclined ramp, then
@@ -64,6 +73,7 @@ struct ClassifyCounts {
   std::size_t wall_bands = 0;      // dgcnn other labels in patches longer than a box, relabelled wall
   std::size_t ramp_sides = 0;      // dgcnn wall / other labels under a ramp deck, relabelled inclined ramp
   std::size_t wall_feet = 0;       // dgcnn wall labels at the floor's height, relabelled terrain
+  std::size_t map_points_added = 0;  // dgcnn on the map: points the labelled point map gained
 };
 
 class PointClassifier {
@@ -74,6 +84,30 @@ class PointClassifier {
   // classifier has them). Throws sarmap::Error naming what the input lacks.
   // Not const: a classifier may remember what earlier scans of the sequence showed.
   virtual ClassifyCounts classify(PointBuffer& points) = 0;
+  // Whether a point's class may come after its scan and change later (the
+  // classifier of the accumulated map): what keeps labels then takes them
+  // from relabel() when it needs them final.
+  virtual bool labels_arrive_late() const { return accumulated_map() != nullptr; }
+  // The classifier of the accumulated map when that is where classes come
+  // from, else nullptr: the Mapper takes the metric map's voxel classes from it.
+  virtual const DgcnnMapClassifier* accumulated_map() const { return nullptr; }
+  // Sets the labels and scores of points already seen from what the
+  // classifier knows now; returns how many stay unknown. Only for
+  // classifiers whose labels arrive late; the others leave `points` as is.
+  virtual std::size_t relabel(PointBuffer& points) const;
+  // The scans have ended: label what still waits for more of them (the
+  // classifier of the accumulated map's unfinished blocks). Returns the
+  // blocks classified; nothing to do for the others.
+  virtual std::size_t finish() { return 0; }
+  // Lets go of what it keeps at the positions where `forget` is true (a
+  // bounded map's dropped region); returns how many points. Nothing kept:
+  // nothing to do.
+  virtual std::size_t forget(const std::function<bool(double, double, double)>& forget) {
+    (void)forget;
+    return 0;
+  }
+  // Bytes of what the classifier keeps between scans (its labelled point map).
+  virtual std::size_t memory_bytes() const { return 0; }
   // What it remembers of earlier scans, for a checkpoint
   // (engine/core/state_stream.hpp); its name, then nothing for a classifier
   // that remembers nothing.

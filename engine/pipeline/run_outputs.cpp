@@ -52,6 +52,8 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   }
   {
     PointBuffer semantic = mapper.semantic_points();  // a copy: the colours are for the file only
+    // Classes that came after their scan, or changed since, are the map's now.
+    if (mapper.classifier().labels_arrive_late()) mapper.classifier().relabel(semantic);
     paint_class_colors(semantic);
     write_point_cloud(folder.path_of("semantic_points.ply"), semantic);
   }

@@ -49,17 +49,18 @@ void integrate_frames(Mapper& mapper, std::size_t from, std::size_t to, std::siz
 
 // Each stage's state on its own: the profile's timings differ between runs.
 struct MapBytes {
-  std::string metric, segments, topo, points;
+  std::string metric, segments, topo, points, classifier;
 };
 
 MapBytes bytes_of(const Mapper& mapper) {
   MapBytes b;
-  StateWriter metric, segments, topo, points;
+  StateWriter metric, segments, topo, points, classifier;
   mapper.metric_map().save_state(metric);
   mapper.segment_map().save_state(segments);
   mapper.topo_map().save_state(topo);
   mapper.semantic_points().save_state(points);
-  return {metric.bytes(), segments.bytes(), topo.bytes(), points.bytes()};
+  mapper.classifier().save_state(classifier);
+  return {metric.bytes(), segments.bytes(), topo.bytes(), points.bytes(), classifier.bytes()};
 }
 
 // Compared as booleans: a failure would print megabytes of state otherwise.
@@ -69,6 +70,7 @@ void expect_same_maps(const Mapper& a, const Mapper& b) {
   EXPECT_TRUE(x.segments == y.segments) << "segment map";
   EXPECT_TRUE(x.topo == y.topo) << "topological map";
   EXPECT_TRUE(x.points == y.points) << "semantic points";
+  EXPECT_TRUE(x.classifier == y.classifier) << "classifier memory (ramp decks, labelled point map)";
   EXPECT_EQ(a.profile().scan_count(), b.profile().scan_count());
   EXPECT_EQ(a.profile().counter("metric", "rays"), b.profile().counter("metric", "rays"));
   EXPECT_EQ(a.profile().counter("segment", "created"), b.profile().counter("segment", "created"));

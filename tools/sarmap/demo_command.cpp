@@ -40,6 +40,7 @@ struct DemoArgs {
   int threads = 0;
   std::string classifier = "dgcnn";
   std::string model;  // empty: the shipped ramp model
+  bool classify_per_scan = false;
   std::vector<std::size_t> snapshots;  // as sarmap run's; also draws growth.png
   bool quiet = false;
 };
@@ -122,6 +123,7 @@ void run_demo(const DemoArgs& a) {
   run.threads = a.threads;
   run.classifier = a.classifier;
   run.model = a.model;
+  run.classify_per_scan = a.classify_per_scan;
   run.snapshots = a.snapshots;
   run.quiet = true;  // the demo prints its own summary
   const RunSummary summary = run_pipeline(run);
@@ -203,6 +205,8 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--classifier", args->classifier, "dgcnn, geometric or labels (as for sarmap run)")
       ->capture_default_str();
   cmd->add_option("--model", args->model, "DGCNN weights instead of the shipped ramp model (ramps-dgcnn.safetensors in the data folder: README, Install)");
+  cmd->add_flag("--classify-per-scan", args->classify_per_scan,
+                "DGCNN: classify each scan on its own instead of the accumulated map (as for sarmap run)");
   cmd->add_option("--snapshots", args->snapshots,
                   "Also write the outputs after these numbers of scans (run/snap_NNNN/, as sarmap run's) and "
                   "run/growth.png, the map growing")

@@ -57,6 +57,7 @@ nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper&
     settings["model"] = fs::absolute(config.classifier.model).string();
     settings["min_block_points"] = o.min_block_points;
     settings["block_stride"] = o.block_stride;
+    settings["classify_per_scan"] = o.classify_per_scan;
     settings["ramp_veto"] = o.ramp_veto;
     settings["wall_bands"] = o.wall_bands;
     settings["ramp_sides"] = o.ramp_sides;
@@ -101,6 +102,7 @@ pipeline::MapperConfig apply_run_options(const RunOptions& o, pipeline::MapperCo
   if (!o.model.empty()) config.classifier.model = o.model;
   config.classifier.dgcnn.min_points = o.min_block_points;
   config.classifier.dgcnn.stride = o.block_stride;
+  config.classifier.per_scan = o.classify_per_scan;
   config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
   config.classifier.wall_bands.enabled = o.wall_bands;
   config.classifier.ramp_sides.enabled = o.ramp_sides;
@@ -155,6 +157,7 @@ void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>
   if (!given("--model")) o.model = c.classifier.model;
   if (!given("--min-block-points")) o.min_block_points = c.classifier.dgcnn.min_points;
   if (!given("--block-stride")) o.block_stride = c.classifier.dgcnn.stride;
+  if (!given("--classify-per-scan")) o.classify_per_scan = c.classifier.per_scan;
   if (!given("--no-ramp-veto")) o.ramp_veto = c.classifier.dgcnn.ramp_veto.enabled;
   if (!given("--no-wall-bands")) o.wall_bands = c.classifier.wall_bands.enabled;
   if (!given("--no-ramp-sides")) o.ramp_sides = c.classifier.ramp_sides.enabled;
@@ -294,6 +297,7 @@ RunSummary run_pipeline(const RunOptions& o) {
                                             " scans could be used; the first: " + skipped.first_error());
   }
 
+  mapper.finish();
   write_outputs(folder);
   // The outputs are whole: nothing is left to resume.
   std::error_code ignored;
@@ -360,6 +364,10 @@ void add_run_command(CLI::App& app) {
                   "the default; the block size = no overlap)")
       ->capture_default_str()
       ->check(finite_non_negative());
+  cmd->add_flag("--classify-per-scan", o->classify_per_scan,
+                "DGCNN: classify each scan on its own (every block of every scan) instead of the accumulated "
+                "map (by default the scans' points join a map thinned to one point per 2.5 cm cell, whose "
+                "blocks are classified when they have grown by a quarter or stopped growing)");
   add_off_switch(cmd, "--no-ramp-veto", o->ramp_veto,
                "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
                "inclined ramp on a surface steeper than 60 degrees become wall or other)");

@@ -30,6 +30,8 @@ struct RunOptions {
   // it is lower than `sarmap classify`'s).
   std::size_t min_block_points = pipeline::pipeline_dgcnn_settings().min_points;
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = three quarters of the model's block size
+  // dgcnn: classify each scan on its own instead of the accumulated map.
+  bool classify_per_scan = false;
   bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
   bool wall_bands = true;     // patches labelled other (with wall) 0.8 m or longer become wall
   bool ramp_sides = true;     // wall / other labels under a ramp deck (this scan or earlier) become inclined ramp

@@ -1,0 +1,124 @@
+// The Mapper with the classifier of the accumulated map (the fixture model
+// on a synthetic room): the metric map's voxel classes follow the labelled
+// point map, finish() leaves no block with points no classification has
+// seen, per-scan classification stays available, and a bounded map lets the
+// labelled point map go of what it dropped.
+#include "engine/pipeline/mapper.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "engine/metric/voxel_key.hpp"
+#include "tests/metric/synthetic_room.hpp"
+
+namespace sarmap::pipeline {
+namespace {
+
+MapperConfig map_classifier_config() {
+  MapperConfig config;
+  config.voxel = 0.1;
+  config.semantic_points_voxel = 0.1;
+  config.classifier.kind = ClassifierKind::Dgcnn;
+  config.classifier.model = SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors";
+  config.classifier.per_scan = false;
+  config.classifier.map_cell = 0.05;
+  return config;
+}
+
+void integrate_room(Mapper& mapper, int frames) {
+  testing::SyntheticRoom room;
+  for (int f = 0; f < frames; ++f) {
+    auto r = room.frame(f, frames, 80, 60);
+    Scan scan;
+    scan.points = r.points;
+    scan.origin = r.origin;
+    mapper.integrate(scan);
+  }
+}
+
+// Reference: each voxel's class from its map points' mean scores, summed per
+// class (a point its blocks have not classified borrows a classified
+// neighbour's, as the map does).
+std::map<std::uint64_t, ClassId> voxel_classes_of_point_map(const DgcnnMapClassifier& classifier, double voxel) {
+  const LabelledPointMap& map = classifier.map();
+  const std::vector<ClassId>& classes = classifier.channel_classes();
+  std::map<std::uint64_t, std::vector<double>> sums;
+  std::vector<float> mean(classes.size());
+  for (std::uint32_t p = 0; p < map.size(); ++p) {
+    const std::uint32_t scored = map.scored_point(p);
+    if (scored == LabelledPointMap::kNoPoint) continue;
+    map.mean_scores(scored, mean.data());
+    auto& s = sums[metric::pack(metric::key_of(map.points().x()[p], map.points().y()[p], map.points().z()[p], 1.0 / voxel))];
+    s.resize(classes.size());
+    for (std::size_t c = 0; c < classes.size(); ++c) s[c] += mean[c];
+  }
+  std::map<std::uint64_t, ClassId> result;
+  for (const auto& [key, s] : sums) {
+    result[key] = classes[static_cast<std::size_t>(std::max_element(s.begin(), s.end()) - s.begin())];
+  }
+  return result;
+}
+
+TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
+  const MapperConfig config = map_classifier_config();
+  Mapper mapper(config);
+  integrate_room(mapper, 6);
+  mapper.finish();
+  const DgcnnMapClassifier* classifier = mapper.classifier().accumulated_map();
+  ASSERT_NE(classifier, nullptr);
+  EXPECT_TRUE(mapper.classifier().labels_arrive_late());
+  EXPECT_GT(mapper.profile().counter("metric", "voxels_classed_from_point_map"), 0.0);
+  const auto expected = voxel_classes_of_point_map(*classifier, config.voxel);
+  std::size_t occupied = 0, agree = 0;
+  for (const auto& [word, cls] : expected) {
+    const metric::VoxelKey key = metric::unpack_voxel(word);
+    if (mapper.metric_map().state(key) != metric::VoxelState::Occupied) continue;
+    ++occupied;
+    agree += mapper.metric_map().class_of(key) == cls;
+  }
+  ASSERT_GT(occupied, 100u);
+  // Sums in float against the map's quantised evidence: ties may round apart.
+  EXPECT_GE(agree, occupied * 99 / 100) << agree << " of " << occupied;
+  // The last scans' blocks were still waiting, and nothing waits now.
+  EXPECT_GT(mapper.profile().counter("classify", "blocks_at_finish"), 0.0);
+  EXPECT_EQ(mapper.classifier().accumulated_map()->blocks().block_count() > 0, true);
+  Mapper again(config);
+  integrate_room(again, 6);
+  again.finish();
+  again.finish();  // a second call finds nothing left
+  EXPECT_EQ(again.profile().counter("classify", "blocks_at_finish"),
+            mapper.profile().counter("classify", "blocks_at_finish"));
+}
+
+TEST(MapperMapClasses, PerScanClassificationStaysAvailable) {
+  MapperConfig config = map_classifier_config();
+  config.classifier.per_scan = true;
+  Mapper mapper(config);
+  integrate_room(mapper, 2);
+  EXPECT_EQ(mapper.classifier().accumulated_map(), nullptr);
+  EXPECT_FALSE(mapper.classifier().labels_arrive_late());
+  EXPECT_GT(mapper.profile().counter("classify", "blocks"), 0.0);
+}
+
+TEST(MapperMapClasses, ABoundedMapForgetsLabelledPointsWithItsBlocks) {
+  MapperConfig config = map_classifier_config();
+  config.bounds.keep_radius = 1.0;
+  Mapper mapper(config);
+  integrate_room(mapper, 6);
+  mapper.forget_dropped_regions();
+  const DgcnnMapClassifier* classifier = mapper.classifier().accumulated_map();
+  ASSERT_NE(classifier, nullptr);
+  const LabelledPointMap& map = classifier->map();
+  for (std::uint32_t p = 0; p < map.size(); ++p) {
+    const auto key = metric::key_of(map.points().x()[p], map.points().y()[p], map.points().z()[p],
+                                    mapper.metric_map().inv_resolution());
+    EXPECT_NE(mapper.metric_map().blocks().voxel(key), nullptr) << p;
+  }
+  if (mapper.blocks_dropped() > 0) {
+    EXPECT_GT(mapper.profile().counter("classify", "map_points_forgotten"), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::pipeline
