@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
     sarmap::pipeline::Mapper mapper(config, source->sensor());
     sarmap::Scan scan;
     while (source->next(scan)) mapper.integrate(scan);
+    // The network classifies the accumulated map, so some classes come after
+    // their scan: finish() labels what still waits before the maps are read.
+    mapper.finish();
     const auto counts = mapper.metric_map().counts();
     std::printf("sarmap %s: %zu scans, %zu occupied and %zu free voxels, %zu segments, %zu topological nodes\n",
                 sarmap::kVersion, mapper.profile().scan_count(), counts.occupied, counts.free,
