@@ -7,11 +7,15 @@
 
 namespace sarmap::render {
 
-RgbImage::RgbImage(int width, int height, Rgb fill) : width_(width), height_(height) {
+void check_image_size(int width, int height) {
   if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
     throw Error(ErrorCode::InvalidArgument, "image size " + std::to_string(width) + " x " + std::to_string(height) +
                                                 " is not within 1 to " + std::to_string(kMaxImageSide) + " pixels a side");
   }
+}
+
+RgbImage::RgbImage(int width, int height, Rgb fill) : width_(width), height_(height) {
+  check_image_size(width, height);
   bytes_.resize(3 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
   for (std::size_t i = 0; i < bytes_.size(); i += 3) {
     bytes_[i] = fill.r;

@@ -51,4 +51,7 @@ class RgbImage {
 // Larger sides are refused: a typo in --width should not allocate gigabytes.
 inline constexpr int kMaxImageSide = 16384;
 
+// Throws sarmap::Error (InvalidArgument) for a side outside [1, kMaxImageSide].
+void check_image_size(int width, int height);
+
 }  // namespace sarmap::render

@@ -85,11 +85,8 @@ void place(RgbImage& picture, const RgbImage& panel, int x0, int y0) {
 
 HeightRange heights_of(const Box3& box) { return {box.min.z(), box.max.z()}; }
 
-void check_size(const PictureSize& size) {
-  // Validated once here so a bad size is refused before any ray is cast.
-  RgbImage probe(size.view_width, size.view_height);
-  (void)probe;
-}
+// Before any ray is cast, so a bad size costs nothing.
+void check_size(const PictureSize& size) { check_image_size(size.view_width, size.view_height); }
 
 }  // namespace
 
