@@ -66,7 +66,8 @@ void BM_VoxelViews(benchmark::State& state) {
     const VoxelViews views = render_voxel_views(scene, voxels(), camera, {box.min.z(), box.max.z()});
     benchmark::DoNotOptimize(views.metric.bytes().data());
   }
-  state.counters["pixels/s"] = benchmark::Counter(static_cast<double>(w) * h, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["pixels/s"] =
+      benchmark::Counter(static_cast<double>(w) * h, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_VoxelViews)->Args({1280, 720})->Args({640, 360})->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -112,7 +113,8 @@ BENCHMARK(BM_TopViewOverlays)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_WritePng(benchmark::State& state) {
   const VoxelScene scene(voxels());
   const Box3 box = voxel_bounds(voxels());
-  const VoxelViews views = render_voxel_views(scene, voxels(), oblique_camera(box, 1280, 720), {box.min.z(), box.max.z()});
+  const VoxelViews views =
+      render_voxel_views(scene, voxels(), oblique_camera(box, 1280, 720), {box.min.z(), box.max.z()});
   RgbImage picture(2572, 1452);
   picture.paste(views.metric, 4, 4);
   picture.paste(views.semantic, 1288, 4);

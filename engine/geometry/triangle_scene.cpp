@@ -171,8 +171,8 @@ TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const
 }
 
 TriangleScene::SurfaceHit TriangleScene::closest_hit(const Eigen::Vector3f& origin,
-                                                      const Eigen::Vector3f& direction, float t_near,
-                                                      float t_far) const {
+                                                     const Eigen::Vector3f& direction, float t_near,
+                                                     float t_far) const {
   check_ray(origin, &direction, t_near, t_far);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

@@ -40,8 +40,8 @@ constexpr float kFrameMargin = 1.04f;
 
 }  // namespace
 
-Camera Camera::perspective(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up,
-                           float vertical_fov_deg, int width, int height) {
+Camera Camera::perspective(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
+                           const Eigen::Vector3f& up, float vertical_fov_deg, int width, int height) {
   check_size(width, height);
   if (!(vertical_fov_deg > 0 && vertical_fov_deg < 180)) {
     throw Error(ErrorCode::InvalidArgument, "camera: the field of view must lie in (0, 180) degrees");
@@ -65,7 +65,8 @@ Camera Camera::orthographic(const Eigen::Vector3f& center, const Eigen::Vector3f
                             int height) {
   check_size(width, height);
   if (!(metres_per_pixel > 0) || !(forward.norm() > 0)) {
-    throw Error(ErrorCode::InvalidArgument, "camera: an orthographic view needs a direction and a positive scale");
+    throw Error(ErrorCode::InvalidArgument,
+                "camera: an orthographic view needs a direction and a positive scale");
   }
   Camera c;
   c.orthographic_ = true;
@@ -115,15 +116,16 @@ Camera oblique_camera(const Box3& box, int width, int height) {
   // |a| <= tan_h (distance + c) and |b| <= tan_v (distance + c).
   float distance = 0.1f;
   for (int corner = 0; corner < 8; ++corner) {
-    const Eigen::Vector3f p((corner & 1) ? box.max.x() : box.min.x(), (corner & 2) ? box.max.y() : box.min.y(),
+    const Eigen::Vector3f p((corner & 1) ? box.max.x() : box.min.x(),
+                            (corner & 2) ? box.max.y() : box.min.y(),
                             (corner & 4) ? box.max.z() : box.min.z());
     const Eigen::Vector3f d = p - centre;
     const float c = d.dot(forward);
     distance = std::max({distance, std::abs(d.dot(right)) / tan_h - c, std::abs(d.dot(down)) / tan_v - c});
   }
   distance *= kFrameMargin;
-  return Camera::perspective(centre - distance * forward, centre, Eigen::Vector3f::UnitZ(), kObliqueFovDeg, width,
-                             height);
+  return Camera::perspective(centre - distance * forward, centre, Eigen::Vector3f::UnitZ(), kObliqueFovDeg,
+                             width, height);
 }
 
 Camera top_down_camera(const Box3& box, int width, int height) {

@@ -27,8 +27,8 @@ class Camera {
   // vertical field of view. Throws sarmap::Error (InvalidArgument) for a
   // size below one pixel, eye == target, an up along the view, or a field of
   // view outside (0, 180) degrees.
-  static Camera perspective(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up,
-                            float vertical_fov_deg, int width, int height);
+  static Camera perspective(const Eigen::Vector3f& eye, const Eigen::Vector3f& target,
+                            const Eigen::Vector3f& up, float vertical_fov_deg, int width, int height);
   // Parallel rays along `forward`, the image centred on `center` (rays start
   // `standoff` metres behind it), `metres_per_pixel` a side.
   static Camera orthographic(const Eigen::Vector3f& center, const Eigen::Vector3f& forward,

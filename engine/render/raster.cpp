@@ -22,7 +22,9 @@ bool clip(Eigen::Vector2d& a, Eigen::Vector2d& b, const Eigen::Vector2d& lo, con
   for (int axis = 0; axis < 2; ++axis) {
     for (const bool low_side : {true, false}) {
       const double bound = low_side ? lo[axis] : hi[axis];
-      const auto outside = [&](const Eigen::Vector2d& p) { return low_side ? p[axis] < bound : p[axis] > bound; };
+      const auto outside = [&](const Eigen::Vector2d& p) {
+        return low_side ? p[axis] < bound : p[axis] > bound;
+      };
       const bool a_out = outside(a), b_out = outside(b);
       if (a_out && b_out) return false;
       if (!a_out && !b_out) continue;

@@ -9,8 +9,9 @@ namespace sarmap::render {
 
 void check_image_size(int width, int height) {
   if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide) {
-    throw Error(ErrorCode::InvalidArgument, "image size " + std::to_string(width) + " x " + std::to_string(height) +
-                                                " is not within 1 to " + std::to_string(kMaxImageSide) + " pixels a side");
+    throw Error(ErrorCode::InvalidArgument, "image size " + std::to_string(width) + " x " +
+                                                std::to_string(height) + " is not within 1 to " +
+                                                std::to_string(kMaxImageSide) + " pixels a side");
   }
 }
 

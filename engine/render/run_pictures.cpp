@@ -93,8 +93,9 @@ void check_size(const PictureSize& size) { check_image_size(size.view_width, siz
 RunContents read_run_contents(const fs::path& run_dir, const fs::path& path_file) {
   if (!fs::is_directory(run_dir)) throw Error(ErrorCode::Io, run_dir.string() + ": not a folder");
   if (!fs::is_regular_file(run_dir / "manifest.json")) {
-    throw Error(ErrorCode::InvalidData, run_dir.string() +
-                                            ": not a finished run folder (no manifest.json; write one with sarmap run)");
+    throw Error(
+        ErrorCode::InvalidData,
+        run_dir.string() + ": not a finished run folder (no manifest.json; write one with sarmap run)");
   }
   verify_run_folder(run_dir);
   RunContents run;

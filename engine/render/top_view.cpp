@@ -20,7 +20,8 @@ constexpr float kWashOut = 0.45f;
 
 Rgb washed(Rgb c) {
   const auto mix = [](std::uint8_t v) {
-    return static_cast<std::uint8_t>(std::lround(static_cast<float>(v) + kWashOut * (255.0f - static_cast<float>(v))));
+    return static_cast<std::uint8_t>(
+        std::lround(static_cast<float>(v) + kWashOut * (255.0f - static_cast<float>(v))));
   };
   return {mix(c.r), mix(c.g), mix(c.b)};
 }
@@ -63,8 +64,10 @@ void draw_overlays(RgbImage& image, const Camera& camera, const MapOverlays& ove
     const auto world = s.rectangle.corners();
     for (std::size_t i = 0; i < 4; ++i) {
       const auto p = pixel_of(camera, world[i]);
-      if (!p) visible = false;
-      else corners[i] = *p;
+      if (!p)
+        visible = false;
+      else
+        corners[i] = *p;
     }
     if (visible) draw_polygon(image, corners, 2.0f * unit, darker(class_info(s.label).color));
   }
@@ -74,7 +77,8 @@ void draw_overlays(RgbImage& image, const Camera& camera, const MapOverlays& ove
       if (e.in_tree != tree || !alive(overlays.nodes, e.a) || !alive(overlays.nodes, e.b)) continue;
       const auto a = pixel_of(camera, overlays.nodes[e.a].position);
       const auto b = pixel_of(camera, overlays.nodes[e.b].position);
-      if (a && b) draw_line(image, *a, *b, (tree ? 2.5f : 1.5f) * unit, tree ? kTreeEdgeColor : kRoadmapEdgeColor);
+      if (a && b)
+        draw_line(image, *a, *b, (tree ? 2.5f : 1.5f) * unit, tree ? kTreeEdgeColor : kRoadmapEdgeColor);
     }
   }
   for (std::size_t i = 1; i < overlays.path.size(); ++i) {
@@ -105,7 +109,8 @@ RgbImage render_top_view(const VoxelScene& scene, const VoxelSet& voxels, const 
   tbb::parallel_for(tbb::blocked_range<int>(0, camera.height()), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < camera.width(); ++x) {
-        const VoxelScene::Hit hit = scene.trace(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+        const VoxelScene::Hit hit =
+            scene.trace(camera.ray(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
         if (hit.hit) image.set(x, y, washed(class_info(voxels.labels[hit.voxel]).color));
       }
     }

@@ -40,8 +40,8 @@ class VoxelScene {
 
   struct Hit {
     bool hit = false;
-    float t = 0;              // metres along the ray (its direction is unit)
-    std::uint32_t voxel = 0;  // index into the VoxelSet
+    float t = 0;                                       // metres along the ray (its direction is unit)
+    std::uint32_t voxel = 0;                           // index into the VoxelSet
     Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // the face's outward normal
   };
   // Thread-safe: one scene serves every row of a picture at once.

@@ -51,7 +51,8 @@ bool on_voxel_edge(const Eigen::Vector3f& point, const Eigen::Vector3f& centre, 
 Rgb height_color(float z, const HeightRange& heights) {
   // Dark blue-grey at the floor through teal and green to pale sand at the
   // top of the walls: ordered in lightness, so it reads in grey too.
-  static constexpr std::array<Rgb, 4> kRamp{{{55, 65, 110}, {40, 135, 140}, {130, 190, 100}, {240, 225, 160}}};
+  static constexpr std::array<Rgb, 4> kRamp{
+      {{55, 65, 110}, {40, 135, 140}, {130, 190, 100}, {240, 225, 160}}};
   const float span = std::max(heights.high - heights.low, 1e-6f);
   const float s = std::clamp((z - heights.low) / span, 0.0f, 1.0f) * static_cast<float>(kRamp.size() - 1);
   const auto i = std::min(static_cast<std::size_t>(s), kRamp.size() - 2);

@@ -255,7 +255,8 @@ Route read_route_json(const std::filesystem::path& path) {
   const Json& points = member(j, "points", path, where);
   if (!points.is_array()) fail(path, where, "\"points\" is not an array");
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d p = json_fields::vector3(points[i], "points[" + std::to_string(i) + "]", path, where);
+    const Eigen::Vector3d p =
+        json_fields::vector3(points[i], "points[" + std::to_string(i) + "]", path, where);
     if (!p.allFinite()) fail(path, where, "\"points[" + std::to_string(i) + "]\" is not finite");
     r.points.push_back(p);
   }

@@ -58,9 +58,9 @@ class RenderCommand : public ::testing::Test {
     fs::remove_all(dir());
     fs::create_directories(dir());
     const fs::path arena = fs::path(SARMAP_SOURCE_DIR) / "tests" / "cli" / "data" / "room_with_door.json";
-    const auto sim = run_cli("simulate " + quoted(arena.string()) + " --out " + quoted((dir() / "seq").string()) +
-                                 " --quiet",
-                             dir());
+    const auto sim = run_cli(
+        "simulate " + quoted(arena.string()) + " --out " + quoted((dir() / "seq").string()) + " --quiet",
+        dir());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     const auto r = run_cli("run " + quoted((dir() / "seq").string()) + " --out " + quoted(run().string()) +
                                " --classifier labels --snapshots 16,32 --quiet",
@@ -68,13 +68,16 @@ class RenderCommand : public ::testing::Test {
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() { fs::remove_all(dir()); }
-  static fs::path dir() { return fs::temp_directory_path() / ("sarmap_render_cli_" + std::to_string(::getpid())); }
+  static fs::path dir() {
+    return fs::temp_directory_path() / ("sarmap_render_cli_" + std::to_string(::getpid()));
+  }
   static fs::path run() { return dir() / "run"; }
   static test::CliResult render(const std::string& args) { return run_cli("render " + args, dir()); }
   // Regular files in a folder whose name starts with a dot: temporaries.
   static int hidden_files(const fs::path& folder) {
     int n = 0;
-    for (const auto& e : fs::directory_iterator(folder)) n += e.path().filename().string()[0] == '.' && e.is_regular_file();
+    for (const auto& e : fs::directory_iterator(folder))
+      n += e.path().filename().string()[0] == '.' && e.is_regular_file();
     return n;
   }
 };
@@ -83,7 +86,8 @@ constexpr int kW = 160, kH = 90, kGap = 4;
 
 TEST_F(RenderCommand, DrawsBothMapsInThreeDAndTheTopView) {
   const fs::path out = dir() / "picture.png";
-  const auto r = render(quoted(run().string()) + " --out " + quoted(out.string()) + " --width 160 --height 90");
+  const auto r =
+      render(quoted(run().string()) + " --out " + quoted(out.string()) + " --width 160 --height 90");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("rendered"), std::string::npos) << r.out;
   const Picture p = read_png(out);
@@ -109,14 +113,18 @@ TEST_F(RenderCommand, DrawsBothMapsInThreeDAndTheTopView) {
 
 TEST_F(RenderCommand, DrawsTheRouteInTheRunFolderOrGiven) {
   const fs::path route = dir() / "route.json";
-  const auto plan = run_cli("plan " + quoted(run().string()) + " --from 0.6,0.6,0 --to 3.4,2.4,0 --graph roadmap --out " +
-                                quoted(route.string()) + " --quiet",
-                            dir());
+  const auto plan =
+      run_cli("plan " + quoted(run().string()) + " --from 0.6,0.6,0 --to 3.4,2.4,0 --graph roadmap --out " +
+                  quoted(route.string()) + " --quiet",
+              dir());
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
   const fs::path without = dir() / "without.png", with = dir() / "with.png";
-  ASSERT_EQ(render(quoted(run().string()) + " --out " + quoted(without.string()) + " --width 160 --height 90 --quiet").exit_code, 0);
-  const auto r = render(quoted(run().string()) + " --out " + quoted(with.string()) + " --width 160 --height 90 --quiet --path " +
-                        quoted(route.string()));
+  ASSERT_EQ(render(quoted(run().string()) + " --out " + quoted(without.string()) +
+                   " --width 160 --height 90 --quiet")
+                .exit_code,
+            0);
+  const auto r = render(quoted(run().string()) + " --out " + quoted(with.string()) +
+                        " --width 160 --height 90 --quiet --path " + quoted(route.string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Picture a = read_png(without), b = read_png(with);
   // The path's green appears in the top view only when a route is drawn.
@@ -126,14 +134,16 @@ TEST_F(RenderCommand, DrawsTheRouteInTheRunFolderOrGiven) {
   // The same route as the run folder's path.json is drawn without --path.
   fs::copy_file(route, run() / "path.json");
   const fs::path in_folder = dir() / "in_folder.png";
-  const auto f = render(quoted(run().string()) + " --out " + quoted(in_folder.string()) + " --width 160 --height 90 --quiet");
+  const auto f = render(quoted(run().string()) + " --out " + quoted(in_folder.string()) +
+                        " --width 160 --height 90 --quiet");
   fs::remove(run() / "path.json");
   ASSERT_EQ(f.exit_code, 0) << f.err;
   EXPECT_EQ(read_png(in_folder).rgb, b.rgb);
   // A route file that is not one is an error naming it.
   const fs::path bad = dir() / "bad_route.json";
   { std::ofstream(bad) << "{\"found\": true}"; }
-  const auto e = render(quoted(run().string()) + " --out " + quoted((dir() / "bad.png").string()) + " --path " + quoted(bad.string()));
+  const auto e = render(quoted(run().string()) + " --out " + quoted((dir() / "bad.png").string()) +
+                        " --path " + quoted(bad.string()));
   EXPECT_EQ(e.exit_code, 1);
   EXPECT_NE(e.err.find("sarmap: error: "), std::string::npos) << e.err;
   EXPECT_NE(e.err.find("bad_route.json"), std::string::npos) << e.err;
@@ -142,8 +152,8 @@ TEST_F(RenderCommand, DrawsTheRouteInTheRunFolderOrGiven) {
 
 TEST_F(RenderCommand, GrowthStripHasAColumnPerSnapshotAndTheRun) {
   const fs::path out = dir() / "p.png", growth = dir() / "growth.png";
-  const auto r = render(quoted(run().string()) + " --out " + quoted(out.string()) + " --growth " + quoted(growth.string()) +
-                        " --width 160 --height 90 --quiet");
+  const auto r = render(quoted(run().string()) + " --out " + quoted(out.string()) + " --growth " +
+                        quoted(growth.string()) + " --width 160 --height 90 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Picture g = read_png(growth);
   // snap_0016, snap_0032 and the run, each view at half size.
@@ -175,13 +185,15 @@ TEST_F(RenderCommand, ErrorsLeaveNoFileBehind) {
   EXPECT_NE(r.err.find("no_such_run"), std::string::npos) << r.err;
 
   // An --out whose folder does not exist, and one that is a folder.
-  r = render(quoted(run().string()) + " --out " + quoted((dir() / "missing" / "x.png").string()) + " --width 32 --height 32");
+  r = render(quoted(run().string()) + " --out " + quoted((dir() / "missing" / "x.png").string()) +
+             " --width 32 --height 32");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("sarmap: error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir() / "missing"));
   fs::create_directories(dir() / "taken.png");
-  r = render(quoted(run().string()) + " --out " + quoted((dir() / "taken.png").string()) + " --width 32 --height 32");
+  r = render(quoted(run().string()) + " --out " + quoted((dir() / "taken.png").string()) +
+             " --width 32 --height 32");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("sarmap: error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("is a folder"), std::string::npos) << r.err;

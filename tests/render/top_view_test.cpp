@@ -18,7 +18,8 @@ const Box3 kBox{{0, 0, 0}, {4, 2, 1}};
 constexpr float kMetresPerPixel = 1.04f * 4.0f / 400.0f;
 
 Eigen::Vector2f expected_pixel(double x, double y) {
-  return {200.0f + static_cast<float>(x - 2) / kMetresPerPixel, 100.0f - static_cast<float>(y - 1) / kMetresPerPixel};
+  return {200.0f + static_cast<float>(x - 2) / kMetresPerPixel,
+          100.0f - static_cast<float>(y - 1) / kMetresPerPixel};
 }
 
 topo::TopoNode node(std::uint32_t id, double x, double y, topo::NodeKind kind) {
@@ -49,7 +50,9 @@ TEST(TopView, OverlaysLandWhereTheCameraProjectsThem) {
 
   RgbImage image(400, 200, kBackground);
   draw_overlays(image, camera, overlays);
-  const auto at = [&image](const Eigen::Vector2f& p) { return image.at(static_cast<int>(p.x()), static_cast<int>(p.y())); };
+  const auto at = [&image](const Eigen::Vector2f& p) {
+    return image.at(static_cast<int>(p.x()), static_cast<int>(p.y()));
+  };
   // Nodes: filled in the class of their ground, ringed in black.
   EXPECT_TRUE(same(at(expected_pixel(1, 1)), class_info(ClassId::Terrain).color));
   EXPECT_TRUE(same(at(expected_pixel(3, 1)), class_info(ClassId::FlatRamp).color));

@@ -63,8 +63,7 @@ TEST(VoxelScene, ARayMeetsTheFaceTurnedToIt) {
 TEST(VoxelViews, ACubeFromAboveCoversExactlyItsPixels) {
   const VoxelSet set = one_cube(ClassId::InclinedRamp);
   const VoxelScene scene(set);
-  const Camera camera =
-      Camera::orthographic({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 0.1f, 10.0f, 40, 40);
+  const Camera camera = Camera::orthographic({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 0.1f, 10.0f, 40, 40);
   const HeightRange heights{0, 2};
   const VoxelViews views = render_voxel_views(scene, set, camera, heights);
   ASSERT_EQ(views.semantic.width(), 40);
@@ -122,7 +121,8 @@ TEST(Camera, ObliqueAndTopViewsFrameTheWholeBox) {
   const Box3 box{{0, 0, 0}, {6, 4, 1.2f}};
   for (const Camera& camera : {oblique_camera(box, 320, 180), top_down_camera(box, 320, 180)}) {
     for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3f p((corner & 1) ? 6.0f : 0.0f, (corner & 2) ? 4.0f : 0.0f, (corner & 4) ? 1.2f : 0.0f);
+      const Eigen::Vector3f p((corner & 1) ? 6.0f : 0.0f, (corner & 2) ? 4.0f : 0.0f,
+                              (corner & 4) ? 1.2f : 0.0f);
       const auto pixel = camera.project(p);
       ASSERT_TRUE(pixel.has_value());
       EXPECT_GE(pixel->x(), 0);

@@ -307,12 +307,18 @@ TEST(RouteJson, ReadsBackWhatWasWritten) {
   EXPECT_TRUE(none_back.points.empty());
 
   try {
-    read_route_json(dir.write("bad.json", R"({"found": true, "graph": "tree", "algorithm": "dijkstra", "length": 1, "points": [[0, 0]], "nodes": []})"));
+    read_route_json(dir.write(
+        "bad.json",
+        R"({"found": true, "graph": "tree", "algorithm": "dijkstra", "length": 1, "points": [[0, 0]], "nodes": []})"));
     FAIL() << "accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("points[0]"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(read_route_json(dir.write("grid.json", R"({"found": false, "reason": "x", "graph": "grid", "algorithm": "astar", "length": 0, "points": []})")), Error);
+  EXPECT_THROW(
+      read_route_json(dir.write(
+          "grid.json",
+          R"({"found": false, "reason": "x", "graph": "grid", "algorithm": "astar", "length": 0, "points": []})")),
+      Error);
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ bool simulate_if_needed(const sim::Arena& arena, const fs::path& arena_file, con
 // show; nothing when no pair has one.
 void write_demo_route(const sim::Arena& arena, const fs::path& run_dir) {
   for (const auto& [from, to] : arena.eval_pairs) {
-    const topo::Route route = plan_on_run(run_dir, from, to, topo::RouteGraph::Roadmap, topo::RouteSearch::AStar);
+    const topo::Route route =
+        plan_on_run(run_dir, from, to, topo::RouteGraph::Roadmap, topo::RouteSearch::AStar);
     if (!route.found) continue;
     topo::write_route_json(run_dir / "path.json", route);
     return;
@@ -183,8 +184,8 @@ void run_demo(const DemoArgs& a) {
       "summary.json\n",
       run_dir.string().c_str());
   std::printf("pictures  %s%s%s in %.1f s (sarmap render)\n", (run_dir / "render.png").string().c_str(),
-              a.snapshots.empty() ? "" : ", ", a.snapshots.empty() ? "" : (run_dir / "growth.png").string().c_str(),
-              pictures_s);
+              a.snapshots.empty() ? "" : ", ",
+              a.snapshots.empty() ? "" : (run_dir / "growth.png").string().c_str(), pictures_s);
   std::printf("total     %.1f s\n", seconds_since(start));
 }
 

@@ -40,8 +40,8 @@ void run_render(const RenderArgs& a) {
     if (file.empty()) continue;
     const fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
     if (!fs::is_directory(folder)) {
-      throw Error(ErrorCode::Io, std::string("render: ") + flag + " " + file.string() + ": folder " + folder.string() +
-                                     " does not exist");
+      throw Error(ErrorCode::Io, std::string("render: ") + flag + " " + file.string() + ": folder " +
+                                     folder.string() + " does not exist");
     }
     if (fs::is_directory(file)) {
       throw Error(ErrorCode::Io, std::string("render: ") + flag + " " + file.string() + " is a folder");
@@ -65,8 +65,9 @@ void run_render(const RenderArgs& a) {
 
 void add_render_command(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "render", "Draw a run's maps into a PNG: metric and semantic in 3-D, and a top view with segments, graph and path");
+  CLI::App* cmd = app.add_subcommand("render",
+                                     "Draw a run's maps into a PNG: metric and semantic in 3-D, and a top "
+                                     "view with segments, graph and path");
   cmd->add_option("RUNDIR", args->run, "Folder written by `sarmap run`")->required();
   cmd->add_option("--out", args->out, "The picture (PNG; default RUNDIR/render.png)");
   cmd->add_option("--width", args->width, "Width of each view in pixels")
@@ -75,9 +76,11 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--height", args->height, "Height of each view in pixels")
       ->capture_default_str()
       ->check(CLI::Range(16, render::kMaxImageSide / 2));
-  cmd->add_option("--path", args->path, "A route to draw (sarmap plan --out); default RUNDIR/path.json when present");
-  cmd->add_option("--growth", args->growth,
-                  "Also a PNG strip of the run's snap_NNNN folders and the run (sarmap run --snapshots), at half size");
+  cmd->add_option("--path", args->path,
+                  "A route to draw (sarmap plan --out); default RUNDIR/path.json when present");
+  cmd->add_option(
+      "--growth", args->growth,
+      "Also a PNG strip of the run's snap_NNNN folders and the run (sarmap run --snapshots), at half size");
   cmd->add_flag("--quiet", args->quiet, "Print nothing");
   cmd->callback([args] { run_render(*args); });
 }

@@ -19,7 +19,8 @@ topo::Route plan_on_run(const fs::path& run, const Eigen::Vector3d& from, const 
   verify_run_folder(run);  // a half-written or mixed folder is refused
   for (const char* name : {"graph.json", "segments.json", "map.sarmap"}) {
     if (!fs::is_regular_file(run / name)) {
-      throw Error(ErrorCode::Io, (run / name).string() + " not found (plan needs a folder written by sarmap run)");
+      throw Error(ErrorCode::Io,
+                  (run / name).string() + " not found (plan needs a folder written by sarmap run)");
     }
   }
   topo::GraphFile graph_file = topo::read_graph_json(run / "graph.json");

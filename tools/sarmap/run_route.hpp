@@ -13,7 +13,7 @@ namespace sarmap::cli {
 
 // Checks the folder against its manifest first. Throws sarmap::Error naming
 // the folder or file when it is not a finished run or lacks a file routes need.
-topo::Route plan_on_run(const std::filesystem::path& run, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
-                        topo::RouteGraph graph, topo::RouteSearch search);
+topo::Route plan_on_run(const std::filesystem::path& run, const Eigen::Vector3d& from,
+                        const Eigen::Vector3d& to, topo::RouteGraph graph, topo::RouteSearch search);
 
 }  // namespace sarmap::cli
