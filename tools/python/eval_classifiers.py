@@ -55,24 +55,28 @@ def simulate(sarmap, work, name, arena_json, seed, every):
 
 def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, ramp_veto,
              ramp_sides, wall_bands, wall_feet, threads):
+    # "dgcnn-per-scan": the network on every scan instead of the accumulated map.
+    base = "dgcnn" if classifier.startswith("dgcnn") else classifier
     suffix = ""
-    if classifier == "dgcnn":
+    if base == "dgcnn":
         suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto") + ("" if ramp_sides else "-nosides") + ("" if wall_bands else "-nobands") + ("" if wall_feet else "-nofeet")
     out = os.path.join(work, name, classifier + suffix)
-    cmd = [sarmap, "run", folder, "--out", out, "--classifier", classifier, "--quiet", "--threads", str(threads)]
-    if classifier == "dgcnn" and model:
+    cmd = [sarmap, "run", folder, "--out", out, "--classifier", base, "--quiet", "--threads", str(threads)]
+    if classifier == "dgcnn-per-scan":
+        cmd += ["--classify-per-scan"]
+    if base == "dgcnn" and model:
         cmd += ["--model", model]
-    if classifier == "dgcnn" and min_block_points:
+    if base == "dgcnn" and min_block_points:
         cmd += ["--min-block-points", str(min_block_points)]
-    if classifier == "dgcnn" and block_stride:
+    if base == "dgcnn" and block_stride:
         cmd += ["--block-stride", str(block_stride)]
-    if classifier == "dgcnn" and not ramp_veto:
+    if base == "dgcnn" and not ramp_veto:
         cmd += ["--no-ramp-veto"]
-    if classifier == "dgcnn" and not ramp_sides:
+    if base == "dgcnn" and not ramp_sides:
         cmd += ["--no-ramp-sides"]
-    if classifier == "dgcnn" and not wall_bands:
+    if base == "dgcnn" and not wall_bands:
         cmd += ["--no-wall-bands"]
-    if classifier == "dgcnn" and not wall_feet:
+    if base == "dgcnn" and not wall_feet:
         cmd += ["--no-wall-feet"]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
@@ -111,7 +115,9 @@ def main(argv):
     parser.add_argument("--work", required=True, help="folder for sequences and runs (sequences are cached)")
     parser.add_argument("--random", default="", help="seeds of generated arenas, e.g. 9001-9005")
     parser.add_argument("--arena", action="append", default=[], help="arena JSON files")
-    parser.add_argument("--classifier", action="append", default=None, help="default: dgcnn and geometric")
+    parser.add_argument("--classifier", action="append", default=None,
+                        help="dgcnn (the accumulated map), dgcnn-per-scan, geometric or labels; "
+                             "default: dgcnn and geometric")
     parser.add_argument("--model", help="DGCNN model (default: the shipped one)")
     parser.add_argument("--min-block-points", type=int, help="passed to sarmap run (default: its own)")
     parser.add_argument("--block-stride", type=float, help="passed to sarmap run: overlapping DGCNN blocks")
