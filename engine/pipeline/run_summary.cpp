@@ -67,7 +67,17 @@ Json run_summary_json(const Mapper& mapper) {
   j["metric_map"] = {
       {"voxel", mapper.metric_map().resolution()}, {"blocks", map.counts.blocks},
       {"known_voxels", map.counts.known},          {"free_voxels", map.counts.free},
-      {"occupied_voxels", map.counts.occupied},    {"occupied_by_class", by_class(map.occupied_by_class)}};
+      {"occupied_voxels", map.counts.occupied},    {"occupied_by_class", by_class(map.occupied_by_class)},
+      {"bytes", mapper.metric_map().memory_bytes()}};
+  // What the classifier keeps beside the maps (the labelled point map and its
+  // blocks, with the classifier of the accumulated map), to compare with the
+  // metric map's bytes.
+  if (const DgcnnMapClassifier* on_map = mapper.classifier().accumulated_map()) {
+    j["labelled_point_map"] = {{"points", on_map->map().size()},
+                               {"blocks", on_map->blocks().block_count()},
+                               {"blocks_classified", on_map->blocks_classified()},
+                               {"bytes", mapper.classifier().memory_bytes()}};
+  }
   j["semantic_points"] = mapper.semantic_points().size();
 
   std::array<std::size_t, kClassCount> segments_by_class{};

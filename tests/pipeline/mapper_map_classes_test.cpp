@@ -10,6 +10,7 @@
 #include <map>
 
 #include "engine/metric/voxel_key.hpp"
+#include "engine/pipeline/run_summary.hpp"
 #include "tests/metric/synthetic_room.hpp"
 
 namespace sarmap::pipeline {
@@ -85,6 +86,14 @@ TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
   EXPECT_GT(at_finish, 0.0);
   mapper.finish();
   EXPECT_EQ(mapper.profile().counter("classify", "blocks_at_finish"), at_finish);
+  // summary.json reports the labelled point map beside the metric map.
+  const nlohmann::ordered_json summary = run_summary_json(mapper);
+  const auto& points = summary.at("labelled_point_map");
+  EXPECT_EQ(points.at("points"), classifier->map().size());
+  EXPECT_EQ(points.at("blocks"), classifier->blocks().block_count());
+  EXPECT_EQ(points.at("blocks_classified"), classifier->blocks_classified());
+  EXPECT_EQ(points.at("bytes"), classifier->map().memory_bytes() + classifier->blocks().memory_bytes());
+  EXPECT_GT(points.at("bytes").get<std::size_t>(), classifier->map().size() * 12);
 }
 
 TEST(MapperMapClasses, PerScanClassificationStaysAvailable) {

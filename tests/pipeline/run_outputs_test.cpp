@@ -148,6 +148,8 @@ TEST(WriteRun, SummaryHoldsTheMappersOwnFigures) {
   EXPECT_EQ(metric_map.at("known_voxels"), map.counts.known);
   EXPECT_EQ(metric_map.at("free_voxels"), map.counts.free);
   EXPECT_EQ(metric_map.at("occupied_voxels"), map.counts.occupied);
+  EXPECT_EQ(metric_map.at("bytes"), mapper.metric_map().memory_bytes());
+  EXPECT_FALSE(summary.contains("labelled_point_map"));  // the labels classifier keeps none
   EXPECT_GT(map.counts.occupied, 0u);
   EXPECT_EQ(summary.at("semantic_points"), mapper.semantic_points().size());
   std::size_t segments = 0;
