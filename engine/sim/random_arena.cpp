@@ -266,7 +266,36 @@ std::vector<Eigen::Vector2d> plan_trajectory(const Layout& l, Layout& kept_out) 
   return out;
 }
 
-Json make_arena(std::uint64_t seed, std::uint64_t attempt) {
+// A whole number as an integer, so today's camera reads "fx": 277 as before.
+Json whole_or_real(double v) {
+  return v == std::floor(v) && std::abs(v) < 1e9 ? Json(static_cast<std::int64_t>(v)) : Json(v);
+}
+
+Json sensor_json(const RandomSensor& s) {
+  if (s.type == SensorType::Lidar) {
+    return {{"type", "lidar"},
+            {"rings", s.rings},
+            {"horizontal_samples", s.samples},
+            {"vertical_fov_deg", {s.vertical_fov_min_deg, s.vertical_fov_max_deg}},
+            {"min_range", s.min_range.value_or(0.4)},
+            {"max_range", s.max_range.value_or(12.0)},
+            {"noise", "gaussian"},
+            {"sigma", 0.01}};
+  }
+  const double f = round3(277.0 * s.width / 320.0);
+  return {{"type", "depth_camera"},
+          {"width", s.width},
+          {"height", s.image_height},
+          {"fx", whole_or_real(f)},
+          {"fy", whole_or_real(f)},
+          {"cx", whole_or_real(s.width / 2.0)},
+          {"cy", whole_or_real(s.image_height / 2.0)},
+          {"min_range", s.min_range.value_or(0.3)},
+          {"max_range", s.max_range.value_or(5.0)},
+          {"noise", "kinect"}};
+}
+
+Json make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& sensor) {
   Rng rng(mix64(seed) ^ attempt);
   Layout l;
   l.width = round3(rng.uniform(8.0, 14.0));
@@ -345,27 +374,31 @@ Json make_arena(std::uint64_t seed, std::uint64_t attempt) {
     if (i > 0) length += (path[i] - path[i - 1]).norm();
     waypoints.push_back({round3(path[i].x()), round3(path[i].y())});
   }
-  j["trajectory"] = {{"waypoints", waypoints}, {"height", 0.5},
+  // Drawn whatever the sensor, so the draws stay those of a depth camera.
+  const double drawn_pitch = round3(rng.uniform(-25, -10));
+  const double pitch = sensor.pitch_deg.value_or(sensor.type == SensorType::Lidar ? 0.0 : drawn_pitch);
+  j["trajectory"] = {{"waypoints", waypoints},
+                     {"height", sensor.height.value_or(0.5)},
                      {"frames", std::clamp(static_cast<int>(std::lround(length / 0.1)), 60, 600)},
-                     {"pitch_deg", round3(rng.uniform(-25, -10))}};
-  j["sensor"] = {{"type", "depth_camera"}, {"width", 320}, {"height", 240}, {"fx", 277}, {"fy", 277},
-                 {"cx", 160}, {"cy", 120}, {"min_range", 0.3}, {"max_range", 5.0}, {"noise", "kinect"}};
+                     {"pitch_deg", pitch}};
+  j["sensor"] = sensor_json(sensor);
   return j;
 }
 
 }  // namespace
 
-std::string random_arena_json(std::uint64_t seed) {
+std::string random_arena_json(std::uint64_t seed, const RandomSensor& sensor) {
   // A layout whose ramps the tour cannot reach is drawn again.
   for (std::uint64_t attempt = 0; attempt < 64; ++attempt) {
-    const Json j = make_arena(seed, attempt);
+    const Json j = make_arena(seed, attempt, sensor);
     if (!j.is_null()) return j.dump(2) + "\n";
   }
   throw Error(ErrorCode::InvalidData, "random arena " + std::to_string(seed) + ": no valid layout in 64 attempts");
 }
 
-Arena random_arena(std::uint64_t seed) {
-  return parse_arena(random_arena_json(seed), "random-" + std::to_string(seed), std::filesystem::path("."));
+Arena random_arena(std::uint64_t seed, const RandomSensor& sensor) {
+  return parse_arena(random_arena_json(seed, sensor), "random-" + std::to_string(seed),
+                     std::filesystem::path("."));
 }
 
 }  // namespace sarmap::sim

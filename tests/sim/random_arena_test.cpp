@@ -1,6 +1,6 @@
 // Tests of engine/sim/random_arena.hpp: arenas differ per seed, repeat for a
 // seed, follow the NIST-like recipe, keep elements apart and let the
-// trajectory see the ramps.
+// trajectory see the ramps; the sensor choice changes the sensor only.
 #include "engine/sim/random_arena.hpp"
 
 #include <gtest/gtest.h>
@@ -96,6 +96,68 @@ TEST(RandomArena, TrajectorySeesEveryRampClass) {
   EXPECT_GT(seen[static_cast<std::size_t>(ClassId::FlatRamp)], 5u);
   EXPECT_GT(seen[static_cast<std::size_t>(ClassId::Wall)], 50u);
   EXPECT_GT(seen[static_cast<std::size_t>(ClassId::Terrain)], 50u);
+}
+
+// The default sensor is the depth camera random arenas had before the choice:
+// the text is pinned by its SHA-256 (taken from `sarmap simulate --random 17
+// --write-arena` before the sensor options existed), so the sequences stay
+// byte for byte what they were.
+TEST(RandomArena, DefaultSensorKeepsTheDescription) {
+  EXPECT_EQ(random_arena(17).sha256, "74cf334adf237aed554876650bf537076cc63b3a284467be186cb260bd8d0727");
+  EXPECT_EQ(random_arena_json(17, RandomSensor{}), random_arena_json(17));
+  const Arena a = random_arena(17);
+  EXPECT_EQ(a.sensor.type, SensorType::DepthCamera);
+  EXPECT_EQ(a.sensor.intrinsics.width, 320);
+  EXPECT_DOUBLE_EQ(a.sensor.intrinsics.fx, 277);
+  EXPECT_DOUBLE_EQ(a.sensor.max_range, 5.0);
+}
+
+TEST(RandomArena, LidarSensorKeepsLayoutAndPath) {
+  RandomSensor lidar;
+  lidar.type = SensorType::Lidar;
+  lidar.rings = 32;
+  lidar.samples = 900;
+  lidar.vertical_fov_min_deg = -30;
+  lidar.vertical_fov_max_deg = 10;
+  lidar.max_range = 20;
+  lidar.height = 0.8;
+  const Arena a = random_arena(17, lidar);
+  const Arena depth = random_arena(17);
+  EXPECT_EQ(a.sensor.type, SensorType::Lidar);
+  EXPECT_EQ(a.sensor.rings, 32);
+  EXPECT_EQ(a.sensor.horizontal_samples, 900);
+  EXPECT_DOUBLE_EQ(a.sensor.vertical_fov_min_deg, -30);
+  EXPECT_DOUBLE_EQ(a.sensor.vertical_fov_max_deg, 10);
+  EXPECT_DOUBLE_EQ(a.sensor.min_range, 0.4);
+  EXPECT_DOUBLE_EQ(a.sensor.max_range, 20);
+  EXPECT_DOUBLE_EQ(a.trajectory.height, 0.8);
+  EXPECT_DOUBLE_EQ(a.trajectory.pitch_deg, 0);  // a LiDAR is mounted level unless asked
+  EXPECT_EQ(a.elements.size(), depth.elements.size());
+  EXPECT_EQ(a.trajectory.frames, depth.trajectory.frames);
+  ASSERT_EQ(a.trajectory.waypoints.size(), depth.trajectory.waypoints.size());
+  for (std::size_t i = 0; i < a.trajectory.waypoints.size(); ++i) {
+    EXPECT_EQ(a.trajectory.waypoints[i], depth.trajectory.waypoints[i]);
+  }
+}
+
+TEST(RandomArena, DepthCameraSizeKeepsTheFieldOfView) {
+  RandomSensor camera;
+  camera.width = 640;
+  camera.image_height = 480;
+  camera.pitch_deg = -15;
+  camera.min_range = 0.5;
+  camera.max_range = 8;
+  const Arena a = random_arena(17, camera);
+  EXPECT_EQ(a.sensor.intrinsics.width, 640);
+  EXPECT_EQ(a.sensor.intrinsics.height, 480);
+  EXPECT_DOUBLE_EQ(a.sensor.intrinsics.fx, 554);
+  EXPECT_DOUBLE_EQ(a.sensor.intrinsics.fy, 554);
+  EXPECT_DOUBLE_EQ(a.sensor.intrinsics.cx, 320);
+  EXPECT_DOUBLE_EQ(a.sensor.intrinsics.cy, 240);
+  EXPECT_DOUBLE_EQ(a.sensor.min_range, 0.5);
+  EXPECT_DOUBLE_EQ(a.sensor.max_range, 8);
+  EXPECT_DOUBLE_EQ(a.trajectory.pitch_deg, -15);
+  EXPECT_EQ(a.sensor.noise.kind, NoiseKind::Kinect);
 }
 
 }  // namespace
