@@ -8,9 +8,14 @@
 #   /usr/bin/python3 tools/python/eval_classifiers.py --sarmap build/release/tools/sarmap/sarmap \
 #       --work /tmp/sarmap-eval --random 9001-9005 --arena datasets/arenas/esogu-6x4.json \
 #       --arena datasets/arenas/building-52x15.json --every 4
+#
+# --sensor lidar (and --sensor-args) sees the random arenas with another
+# sensor (`sarmap simulate --random SEED --sensor ...`); their sequences are
+# cached apart from the depth camera's.
 import argparse
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -39,17 +44,26 @@ def thin_sequence(folder, every):
         json.dump(manifest, f, indent=1)
 
 
-def simulate(sarmap, work, name, arena_json, seed, every):
-    """Returns (arena JSON path, sequence folder); cached in WORK."""
+def simulate(sarmap, work, name, arena_json, seed, every, sensor_args):
+    """Returns (arena JSON path, sequence folder); cached in WORK (simulated again when the command or --every
+    differs from the cached one's)."""
     folder = os.path.join(work, name, "sequence")
     arena_path = arena_json or os.path.join(work, name, "arena.json")
-    if not os.path.exists(os.path.join(folder, "sequence.json")):
+    cmd = [sarmap, "simulate", "--out", folder, "--quiet", "--seed", "7"]
+    cmd += ["--random", str(seed), "--write-arena", arena_path] + sensor_args if arena_json is None else [arena_json]
+    stamp_path = os.path.join(work, name, "simulated.json")
+    stamp = {"command": cmd[1:], "every": every}
+    cached = os.path.exists(os.path.join(folder, "sequence.json")) and os.path.exists(stamp_path)
+    if cached:
+        with open(stamp_path) as f:
+            cached = json.load(f) == stamp
+    if not cached:
         shutil.rmtree(folder, ignore_errors=True)
         os.makedirs(os.path.dirname(folder), exist_ok=True)
-        cmd = [sarmap, "simulate", "--out", folder, "--quiet", "--seed", "7"]
-        cmd += ["--random", str(seed), "--write-arena", arena_path] if arena_json is None else [arena_json]
         run(cmd)
         thin_sequence(folder, every)
+        with open(stamp_path, "w") as f:
+            json.dump(stamp, f)
     return arena_path, folder
 
 
@@ -131,15 +145,24 @@ def main(argv):
                         help="passed to sarmap run: keep the network's wall labels at the floor's height")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--sensor", choices=["depth", "lidar"], default="depth",
+                        help="the random arenas' sensor (sarmap simulate --sensor; the arena files keep theirs)")
+    parser.add_argument("--sensor-args", default="",
+                        help="more options for sarmap simulate, e.g. \"--rings 16 --min-range 0.4 --max-range 12\"")
     args = parser.parse_args(argv)
     classifiers = args.classifier or ["dgcnn", "geometric"]
-    arenas = [(f"random-{s}", None, s) for s in parse_seeds(args.random)] if args.random else []
+    sensor_args = shlex.split(args.sensor_args)
+    if args.sensor != "depth" or sensor_args:
+        sensor_args = ["--sensor", args.sensor] + sensor_args
+    # Sequences of another sensor are cached under their own name.
+    tag = "" if not sensor_args else "-" + args.sensor
+    arenas = [(f"random-{s}{tag}", None, s) for s in parse_seeds(args.random)] if args.random else []
     arenas += [(os.path.splitext(os.path.basename(a))[0], os.path.abspath(a), None) for a in args.arena]
 
     totals = {c: np.zeros((len(CLASSES), len(CLASSES)), dtype=np.int64) for c in classifiers}
     rows = []
     for name, arena_json, seed in arenas:
-        arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every)
+        arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every, sensor_args)
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
                                         args.min_block_points, args.block_stride, not args.no_ramp_veto,
