@@ -220,8 +220,8 @@ std::size_t Mapper::take_voxel_classes_from_point_map(Bounds& changed_region) {
       const std::uint32_t scored = points.scored_point(p);
       if (scored == LabelledPointMap::kNoPoint) return;
       points.mean_scores(scored, mean.data());
-      const auto best = static_cast<std::size_t>(points.best_channel(scored));
-      ++observation.counts[static_cast<std::size_t>(classes[best])];
+      // The label by the classifiers' own rule (several logits may share a class).
+      ++observation.counts[static_cast<std::size_t>(classifier.map_point_class(scored))];
       for (std::size_t c = 0; c < classes.size(); ++c) {
         observation.score_sums[static_cast<std::size_t>(classes[c])] += mean[c];
       }

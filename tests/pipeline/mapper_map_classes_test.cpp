@@ -1,12 +1,15 @@
 // The Mapper with the classifier of the accumulated map (the fixture model
 // on a synthetic room): the metric map's voxel classes follow the labelled
-// point map, finish() leaves no block with points no classification has
+// point map, also for a model whose logits map many to one onto sarmap's
+// classes, finish() leaves no block with points no classification has
 // seen, per-scan classification stays available, and a bounded map lets the
 // labelled point map go of what it dropped.
 #include "engine/pipeline/mapper.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <map>
 
 #include "engine/metric/voxel_key.hpp"
@@ -94,6 +97,42 @@ TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
   EXPECT_EQ(points.at("blocks_classified"), classifier->blocks_classified());
   EXPECT_EQ(points.at("bytes"), classifier->map().memory_bytes() + classifier->blocks().memory_bytes());
   EXPECT_GT(points.at("bytes").get<std::size_t>(), classifier->map().size() * 12);
+}
+
+// The same with the 13-class S3DIS fixture, whose logits count for terrain,
+// wall and other: a voxel's class is the arg-max of its points' mean scores
+// summed per sarmap class, not the class of the single highest logit.
+TEST(MapperMapClasses, VoxelClassesSumTheLogitsOfEachSarmapClass) {
+  MapperConfig config = map_classifier_config();
+  config.classifier.model = SARMAP_TEST_DATA_DIR "/dgcnn/model_s3dis13.safetensors";
+  Mapper mapper(config);
+  integrate_room(mapper, 6);
+  mapper.finish();
+  const DgcnnMapClassifier& classifier = *mapper.classifier().accumulated_map();
+  const LabelledPointMap& map = classifier.map();
+  const std::vector<ClassId>& classes = classifier.channel_classes();
+  ASSERT_EQ(classes.size(), 13u);
+  std::map<std::uint64_t, std::array<double, kClassCount>> sums;
+  std::vector<float> mean(classes.size());
+  for (std::uint32_t p = 0; p < map.size(); ++p) {
+    const std::uint32_t scored = map.scored_point(p);
+    if (scored == LabelledPointMap::kNoPoint) continue;
+    map.mean_scores(scored, mean.data());
+    const double inv = 1.0 / config.voxel;
+    auto& s = sums[metric::pack(
+        metric::key_of(map.points().x()[p], map.points().y()[p], map.points().z()[p], inv))];
+    for (std::size_t c = 0; c < classes.size(); ++c) s[static_cast<std::size_t>(classes[c])] += mean[c];
+  }
+  std::size_t occupied = 0, agree = 0;
+  for (const auto& [word, s] : sums) {
+    const metric::VoxelKey key = metric::unpack_voxel(word);
+    if (mapper.metric_map().state(key) != metric::VoxelState::Occupied) continue;
+    ++occupied;
+    const auto best = static_cast<ClassId>(std::max_element(s.begin() + 1, s.end()) - s.begin());
+    agree += mapper.metric_map().class_of(key) == best;
+  }
+  ASSERT_GT(occupied, 100u);
+  EXPECT_GE(agree, occupied * 99 / 100) << agree << " of " << occupied;
 }
 
 TEST(MapperMapClasses, PerScanClassificationStaysAvailable) {

@@ -10,7 +10,11 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "tests/file_bytes.hpp"
 
@@ -107,6 +111,76 @@ TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
     EXPECT_NE(slurp(err).find("--block-stride: must be a finite number >= 0"), std::string::npos) << slurp(err);
   }
   fs::remove(err);
+}
+
+// `model` with the string `entry` added to its metadata, written to `out`.
+void write_with_metadata(const std::string& model, const std::string& key, const std::string& value,
+                         const fs::path& out) {
+  const std::string bytes = slurp(model);
+  std::uint64_t len = 0;
+  for (int i = 0; i < 8; ++i)
+    len |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[i])) << (8 * i);
+  nlohmann::json header = nlohmann::json::parse(bytes.substr(8, len));
+  header["__metadata__"][key] = value;
+  const std::string text = header.dump();
+  std::string head(8, '\0');
+  for (int i = 0; i < 8; ++i) head[i] = static_cast<char>(static_cast<std::uint64_t>(text.size()) >> (8 * i));
+  std::ofstream(out, std::ios::binary) << head << text << bytes.substr(8 + len);
+}
+
+// A model with another class list (the 13-class S3DIS fixture): every point
+// gets a sarmap class and the scores are per sarmap class; a sarmap.class_map
+// in the file is honoured, and one naming no sarmap class is refused by name.
+TEST(ClassifyCloud, ModelWithAnotherClassListLabelsWithSarmapClasses) {
+  const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_s3dis_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<float> u(0.0f, 0.999f);
+  PointBuffer cloud;
+  for (int i = 0; i < 1500; ++i) cloud.push_back(1.9f * u(rng), 0.9f * u(rng), 0.01f * u(rng));
+  for (int i = 0; i < 700; ++i) cloud.push_back(1.9f * u(rng), 0.95f, 1.2f * u(rng));
+  write_point_cloud(dir / "in.ply", cloud);
+  const std::string s3dis = kDir + "model_s3dis13.safetensors";
+  const auto classify = [&](const std::string& model) {
+    EXPECT_EQ(run((dir / "in.ply").string() + " --model " + model + " --out " + (dir / "out.ply").string(),
+                  dir / "err"),
+              0)
+        << slurp(dir / "err");
+    return read_point_cloud(dir / "out.ply");
+  };
+  const PointBuffer out = classify(s3dis);
+  ASSERT_EQ(out.size(), cloud.size());
+  EXPECT_EQ(out.score_names(), (std::vector<std::string>{"terrain", "wall", "other"}));
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    const auto label = static_cast<ClassId>(out.labels()[p]);
+    // The rules may move labels to the ramp classes; never beyond sarmap's.
+    EXPECT_LT(out.labels()[p], kClassCount) << p;
+    EXPECT_NE(label, ClassId::Unknown) << p;
+  }
+
+  nlohmann::json all_wall = nlohmann::json::object();
+  for (const char* name : {"ceiling", "floor", "wall", "beam", "column", "window", "door", "table", "chair",
+                           "sofa", "bookcase", "board", "clutter"}) {
+    all_wall[name] = "wall";
+  }
+  write_with_metadata(s3dis, "sarmap.class_map", all_wall.dump(), dir / "walls.safetensors");
+  const PointBuffer walls = classify((dir / "walls.safetensors").string());
+  ASSERT_EQ(walls.score_names(), std::vector<std::string>{"wall"});
+  for (std::size_t p = 0; p < walls.size(); ++p) {
+    EXPECT_EQ(walls.labels()[p], static_cast<std::uint8_t>(ClassId::Wall)) << p;
+    EXPECT_NEAR(walls.score(0)[p], 1.0f, 1e-4f) << p;
+  }
+
+  write_with_metadata(s3dis, "sarmap.class_map", R"({"ceiling": "roof"})", dir / "bad.safetensors");
+  EXPECT_NE(run((dir / "in.ply").string() + " --model " + (dir / "bad.safetensors").string() + " --out " +
+                    (dir / "bad.ply").string(),
+                dir / "err"),
+            0);
+  const std::string message = slurp(dir / "err");
+  EXPECT_NE(message.find("sarmap.class_map"), std::string::npos) << message;
+  EXPECT_NE(message.find("\"ceiling\": \"roof\" is not"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(dir / "bad.ply"));
+  fs::remove_all(dir);
 }
 
 // One frame of a sequence folder, in the world frame (frame 1 of the tiny

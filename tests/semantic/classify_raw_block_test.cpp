@@ -40,6 +40,22 @@ TEST(ClassifyRawBlock, WritesLogitsMatchingTheReference) {
   fs::remove(err);
 }
 
+// The raw logits whatever the model's class names: 13 per point for the S3DIS fixture.
+TEST(ClassifyRawBlock, GivesEveryLogitOfAModelWithAnotherClassList) {
+  const fs::path out =
+      fs::temp_directory_path() / ("sarmap_logits_s3dis_" + std::to_string(::getpid()) + ".npy");
+  const fs::path err = out.string() + ".err";
+  ASSERT_EQ(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir +
+                    "model_s3dis13.safetensors --logits " + out.string(),
+                err),
+            0);
+  const NpyArray got = read_npy_f32(out);
+  EXPECT_EQ(got.shape, (std::vector<std::size_t>{1024, 13}));
+  EXPECT_TRUE(std::all_of(got.values.begin(), got.values.end(), [](float v) { return std::isfinite(v); }));
+  fs::remove(out);
+  fs::remove(err);
+}
+
 TEST(ClassifyRawBlock, RefusesABlockOfTheWrongWidth) {
   const fs::path out = fs::temp_directory_path() / ("sarmap_logits_bad_" + std::to_string(::getpid()) + ".npy");
   const fs::path err = out.string() + ".err";

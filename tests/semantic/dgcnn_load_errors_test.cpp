@@ -147,7 +147,12 @@ TEST(DgcnnLoad, ShapeWhoseElementCountOverflowsIsRefusedAndEmptyTensorsRead) {
 TEST(DgcnnLoad, BadMetadataIsNamed) {
   const std::string e = load_error(with_header("\"sarmap.k\":\"20\"", "\"sarmap.k\":\"zz\""));
   EXPECT_NE(e.find("sarmap.k"), std::string::npos) << e;
-  const std::string c = load_error(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp,lava\""));
+  // Any class name loads (it counts as other); a map onto no sarmap class does not.
+  EXPECT_EQ(load_error(with_header("inclined_ramp,flat_ramp\"", "inclined_ramp,lava\"")), "");
+  nlohmann::json h = model_header();
+  h["__metadata__"]["sarmap.class_map"] = R"({"wall": "lava"})";
+  const std::string c = load_error(with_header_json(h));
+  EXPECT_NE(c.find("sarmap.class_map"), std::string::npos) << c;
   EXPECT_NE(c.find("lava"), std::string::npos) << c;
 }
 

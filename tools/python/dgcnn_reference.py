@@ -8,6 +8,7 @@
 #   /usr/bin/python3 tools/python/dgcnn_reference.py fixtures tests/data/dgcnn
 #   /usr/bin/python3 tools/python/dgcnn_reference.py run M.safetensors B.npy out.npy
 #   /usr/bin/python3 tools/python/dgcnn_reference.py random-model M.safetensors --channels 6
+#   /usr/bin/python3 tools/python/dgcnn_reference.py s3dis-fixture tests/data/dgcnn
 import argparse
 import os
 import sys
@@ -316,6 +317,27 @@ def write_feature_fixture(out_dir):
 
 FEATURE_ORIGIN = (2.0, -3.0)
 
+# The 13 classes of the DGCNN authors' S3DIS model, in its logit order.
+S3DIS_CLASSES = "ceiling,floor,wall,beam,column,window,door,table,chair,sofa,bookcase,board,clutter"
+
+
+def write_s3dis_fixture(out_dir):
+    """model_s3dis13.safetensors: a tiny random model with the authors' S3DIS
+    class names (their weights are not available here), to test that a model
+    with another class list loads and maps onto sarmap's classes."""
+    rng = np.random.default_rng(13)
+    torch.manual_seed(13)
+    model = DGCNNSemSeg(6, 13, 32, 20, 16, (32, 16))
+    block = synthetic_block(rng, 1024, 900, (0.0, 0.0), False)
+    randomise(model, rng, block)
+    metadata = dict(DEFAULT_METADATA)
+    metadata["sarmap.points_per_block"] = "1024"
+    metadata["sarmap.classes"] = S3DIS_CLASSES
+    os.makedirs(out_dir, exist_ok=True)
+    write_safetensors(os.path.join(out_dir, "model_s3dis13.safetensors"), state_numpy(model), metadata)
+    winners = np.bincount(reference_logits(model, block).argmax(1), minlength=13)
+    print(f"S3DIS fixture: arg-max counts per logit on a synthetic block {winners.tolist()}")
+
 
 def main(argv):
     parser = argparse.ArgumentParser(description="sarmap's reference DGCNN")
@@ -328,6 +350,8 @@ def main(argv):
     run.add_argument("logits")
     ft = sub.add_parser("features", help="write points + their expected block features (C++ feature test)")
     ft.add_argument("out_dir")
+    s3 = sub.add_parser("s3dis-fixture", help="write a tiny random model with the S3DIS class names")
+    s3.add_argument("out_dir")
     rnd = sub.add_parser("random-model", help="a full-size random model (benchmarks)")
     rnd.add_argument("model")
     rnd.add_argument("--channels", type=int, default=6)
@@ -341,6 +365,8 @@ def main(argv):
 
     if args.command == "fixtures":
         write_fixtures(args.out_dir)
+    elif args.command == "s3dis-fixture":
+        write_s3dis_fixture(args.out_dir)
     elif args.command == "features":
         write_feature_fixture(args.out_dir)
     elif args.command == "run":

@@ -7,6 +7,12 @@
 #
 #   /usr/bin/python3 tools/python/export_safetensors.py model.t7 model.safetensors \
 #       --classes terrain,wall,inclined_ramp,flat_ramp --k 20
+#
+# A model trained on other classes keeps its own names; sarmap maps them onto
+# its classes (docs/formats.md, "Model file"), e.g. the DGCNN authors' S3DIS model:
+#
+#   ... --classes ceiling,floor,wall,beam,column,window,door,table,chair,sofa,bookcase,board,clutter \
+#       --class-map door=other,board=wall
 import argparse
 import json
 import struct
@@ -106,8 +112,17 @@ def main(argv):
     parser.add_argument("--z-min", default=DEFAULT_METADATA["sarmap.z_min"])
     parser.add_argument("--z-max", default=DEFAULT_METADATA["sarmap.z_max"])
     parser.add_argument("--classes", default="terrain,wall,inclined_ramp,flat_ramp",
-                        help="sarmap class name of each logit, comma separated")
+                        help="the model's class name of each logit, comma separated (any names)")
+    parser.add_argument("--class-map", default="",
+                        help="NAME=SARMAP_CLASS,... where a name's default sarmap class is not wanted "
+                             "(default: a sarmap name itself, floor and ground terrain, any other name other)")
     args = parser.parse_args(argv)
+    class_map = {}
+    for item in filter(None, args.class_map.split(",")):
+        name, sep, target = item.partition("=")
+        if not sep or name not in args.classes.split(","):
+            parser.error(f"--class-map {item!r}: expected NAME=CLASS with NAME one of --classes")
+        class_map[name] = target
 
     import torch  # only the conversion needs torch
 
@@ -121,6 +136,8 @@ def main(argv):
         "sarmap.z_max": str(args.z_max),
         "sarmap.classes": args.classes,
     })
+    if class_map:
+        metadata["sarmap.class_map"] = json.dumps(class_map)
     write_safetensors(args.output, state_dict_to_numpy(state), metadata)
 
 

@@ -22,7 +22,7 @@
 namespace sarmap {
 
 DgcnnClassifier::DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings)
-    : model_(model), settings_(settings) {
+    : model_(model), settings_(settings), class_probabilities_(model.metadata().classes) {
   const DgcnnMetadata& m = model.metadata();
   if (!m.has_preprocessing()) {
     throw Error(ErrorCode::InvalidData, "DGCNN model lacks the sarmap.normalisation / sarmap.classes metadata "
@@ -77,28 +77,26 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
   for (std::size_t b = 0; b < part.blocks.size(); ++b) acc.add_block(points, part.blocks[b], samples[b], scores[b]);
 
   points.enable_labels();
-  std::vector<std::size_t> channels(classes);
-  for (std::size_t c = 0; c < classes; ++c) {
-    const std::string name(class_info(m.classes[c]).name);
+  const std::vector<ClassId>& out_classes = class_probabilities_.classes();
+  std::vector<std::size_t> channels(out_classes.size());
+  for (std::size_t c = 0; c < out_classes.size(); ++c) {
+    const std::string name(class_info(out_classes[c]).name);
     const std::size_t existing = points.find_score(name);
     channels[c] = existing < points.score_count() ? existing : points.add_score(name);
   }
-  // Each point's mean scores and label: in parallel, one scratch row per range.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::vector<float> mean(classes);
-                      for (std::size_t p = range.begin(); p != range.end(); ++p) {
-                        acc.mean(p, mean.data());
-                        for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[p] = mean[c];
-                        if (acc.hits(p) == 0) {
-                          points.labels()[p] = static_cast<std::uint8_t>(ClassId::Unknown);
-                        } else {
-                          const auto best = static_cast<std::size_t>(std::max_element(mean.begin(), mean.end()) -
-                                                                     mean.begin());
-                          points.labels()[p] = static_cast<std::uint8_t>(m.classes[best]);
-                        }
-                      }
-                    });
+  // Each point's mean scores and label: in parallel, scratch rows per range.
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, points.size(), 4096),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<float> mean(classes), per_class(out_classes.size());
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+          acc.mean(p, mean.data());
+          class_probabilities_.sum(mean.data(), per_class.data());
+          for (std::size_t c = 0; c < channels.size(); ++c) points.score(channels[c])[p] = per_class[c];
+          points.labels()[p] = static_cast<std::uint8_t>(
+              acc.hits(p) == 0 ? ClassId::Unknown : out_classes[class_probabilities_.best(per_class.data())]);
+        }
+      });
   const std::size_t vetoed = veto_steep_inclined_ramps(points, settings_.ramp_veto);
   return {part.blocks.size(), part.dropped_points, vetoed};
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
 #include "engine/semantic/rules/steep_surface_veto.hpp"
 
@@ -35,14 +36,17 @@ class DgcnnClassifier {
   // Throws sarmap::Error when the model lacks the preprocessing metadata.
   DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings);
 
-  // Sets labels (sarmap class ids) and one score channel per model class
-  // (named after the class, softmax probabilities averaged over blocks) on
-  // `points`. A 9-channel model needs colours. Runs in the caller's TBB arena.
+  // Sets labels (sarmap class ids) and one score channel per sarmap class
+  // the model's logits map to (named after the class: the sum of those
+  // logits' softmax probabilities, averaged over blocks) on `points`; the
+  // label is the arg-max of those channels (ClassProbabilities). A 9-channel
+  // model needs colours. Runs in the caller's TBB arena.
   DgcnnClassifyStats classify(PointBuffer& points) const;
 
  private:
   const DgcnnModel& model_;
   DgcnnClassifierSettings settings_;
+  ClassProbabilities class_probabilities_;
 };
 
 }  // namespace sarmap

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/core/error.hpp"
 
 namespace sarmap {
@@ -43,7 +45,37 @@ std::string format_real(double v) {
   return out.str();
 }
 
+// sarmap.class_map: a JSON object from the model's class names to sarmap's.
+std::map<std::string, ClassId> parse_class_map(const std::string& source, const std::string& value,
+                                               const std::vector<std::string>& model_classes) {
+  const char* key = "sarmap.class_map";
+  const nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    bad(source, key, value, "a JSON object from the model's class names to sarmap's");
+  }
+  std::map<std::string, ClassId> out;
+  for (const auto& [name, target] : j.items()) {
+    if (std::find(model_classes.begin(), model_classes.end(), name) == model_classes.end()) {
+      bad(source, key, value, "the model's class names as keys (\"" + name + "\" is not in sarmap.classes)");
+    }
+    const auto id = target.is_string() ? class_from_name(target.get<std::string>()) : std::nullopt;
+    if (!id || *id == ClassId::Unknown) {
+      bad(source, key, value,
+          "sarmap classes as values (\"" + name + "\": " + target.dump() +
+              " is not terrain, wall, inclined_ramp, flat_ramp or other)");
+    }
+    out[name] = *id;
+  }
+  return out;
+}
+
 }  // namespace
+
+ClassId default_sarmap_class(const std::string& model_class) {
+  if (model_class == "floor" || model_class == "ground") return ClassId::Terrain;
+  const auto id = class_from_name(model_class);
+  return id && *id != ClassId::Unknown ? *id : ClassId::Other;
+}
 
 DgcnnMetadata parse_dgcnn_metadata(const std::map<std::string, std::string>& entries, const std::string& source) {
   DgcnnMetadata m;
@@ -71,14 +103,19 @@ DgcnnMetadata parse_dgcnn_metadata(const std::map<std::string, std::string>& ent
     while (start <= v->size()) {
       const std::size_t comma = std::min(v->find(',', start), v->size());
       const std::string name = v->substr(start, comma - start);
-      const auto id = class_from_name(name);
-      if (!id) bad(source, "sarmap.classes", *v, "comma-separated class names (\"" + name + "\" is not one)");
-      if (std::find(m.classes.begin(), m.classes.end(), *id) != m.classes.end()) {
+      if (name.empty()) bad(source, "sarmap.classes", *v, "comma-separated class names (an empty one)");
+      if (std::find(m.class_names.begin(), m.class_names.end(), name) != m.class_names.end()) {
         bad(source, "sarmap.classes", *v, "distinct class names (\"" + name + "\" repeats)");
       }
-      m.classes.push_back(*id);
+      m.class_names.push_back(name);
       start = comma + 1;
     }
+  }
+  std::map<std::string, ClassId> mapped;
+  if (const auto* v = get("sarmap.class_map")) mapped = parse_class_map(source, *v, m.class_names);
+  for (const std::string& name : m.class_names) {
+    const auto it = mapped.find(name);
+    m.classes.push_back(it != mapped.end() ? it->second : default_sarmap_class(name));
   }
   return m;
 }
@@ -92,10 +129,17 @@ std::map<std::string, std::string> dgcnn_metadata_entries(const DgcnnMetadata& m
       {"sarmap.z_max", format_real(m.z_max)},
   };
   if (!m.normalisation.empty()) out["sarmap.normalisation"] = m.normalisation;
-  if (!m.classes.empty()) {
+  if (!m.class_names.empty()) {
     std::string names;
-    for (ClassId c : m.classes) names += (names.empty() ? "" : ",") + std::string(class_info(c).name);
+    nlohmann::json mapped = nlohmann::json::object();
+    for (std::size_t l = 0; l < m.class_names.size(); ++l) {
+      names += (names.empty() ? "" : ",") + m.class_names[l];
+      if (l < m.classes.size() && m.classes[l] != default_sarmap_class(m.class_names[l])) {
+        mapped[m.class_names[l]] = std::string(class_info(m.classes[l]).name);
+      }
+    }
     out["sarmap.classes"] = names;
+    if (!mapped.empty()) out["sarmap.class_map"] = mapped.dump();
   }
   return out;
 }

@@ -65,6 +65,7 @@ std::uint64_t block_stream(const MapBlock& block) {
 DgcnnMapClassifier::DgcnnMapClassifier(const DgcnnModel& model, const DgcnnMapClassifierSettings& settings)
     : model_(checked(model)),
       settings_(settings),
+      class_probabilities_(model.metadata().classes),
       map_(settings.cell, model.classes()),
       schedule_(block_settings(model, settings)) {}
 
@@ -147,17 +148,26 @@ std::size_t DgcnnMapClassifier::finish() {
   return classify_blocks(schedule_.unfinished());
 }
 
-std::size_t DgcnnMapClassifier::label_points(PointBuffer& points, std::span<const std::uint32_t> map_points) const {
-  const DgcnnMetadata& m = model_.metadata();
+ClassId DgcnnMapClassifier::map_point_class(std::uint32_t p) const {
+  const std::uint32_t scored = p == LabelledPointMap::kNoPoint ? p : map_.scored_point(p);
+  if (scored == LabelledPointMap::kNoPoint || map_.hits(scored) == 0) return ClassId::Unknown;
+  std::uint32_t per_class[kClassCount];
+  class_probabilities_.sum(map_.score_sums(scored).data(), per_class);
+  return class_probabilities_.classes()[class_probabilities_.best(per_class)];
+}
+
+std::size_t DgcnnMapClassifier::label_points(PointBuffer& points,
+                                             std::span<const std::uint32_t> map_points) const {
   const std::size_t classes = model_.classes();
+  const std::vector<ClassId>& out_classes = class_probabilities_.classes();
   points.enable_labels();
-  std::vector<std::size_t> channels(classes);
-  for (std::size_t c = 0; c < classes; ++c) {
-    const std::string name(class_info(m.classes[c]).name);
+  std::vector<std::size_t> channels(out_classes.size());
+  for (std::size_t c = 0; c < out_classes.size(); ++c) {
+    const std::string name(class_info(out_classes[c]).name);
     const std::size_t existing = points.find_score(name);
     channels[c] = existing < points.score_count() ? existing : points.add_score(name);
   }
-  std::vector<float> mean(classes);
+  std::vector<float> mean(classes), per_class(out_classes.size());
   std::size_t unknown = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     // A point its block has not classified yet borrows the class of a
@@ -165,16 +175,16 @@ std::size_t DgcnnMapClassifier::label_points(PointBuffer& points, std::span<cons
     // classify it when it has grown enough.
     const std::uint32_t p = map_points[i] == LabelledPointMap::kNoPoint ? map_points[i]
                                                                           : map_.scored_point(map_points[i]);
-    const int best = p == LabelledPointMap::kNoPoint ? -1 : map_.best_channel(p);
-    if (best < 0) {
-      std::fill(mean.begin(), mean.end(), 0.0f);
-      points.labels()[i] = static_cast<std::uint8_t>(ClassId::Unknown);
+    const ClassId label = map_point_class(p);
+    if (label == ClassId::Unknown) {
+      std::fill(per_class.begin(), per_class.end(), 0.0f);
       ++unknown;
     } else {
       map_.mean_scores(p, mean.data());
-      points.labels()[i] = static_cast<std::uint8_t>(m.classes[static_cast<std::size_t>(best)]);
+      class_probabilities_.sum(mean.data(), per_class.data());
     }
-    for (std::size_t c = 0; c < classes; ++c) points.score(channels[c])[i] = mean[c];
+    points.labels()[i] = static_cast<std::uint8_t>(label);
+    for (std::size_t c = 0; c < channels.size(); ++c) points.score(channels[c])[i] = per_class[c];
   }
   return unknown;
 }

@@ -20,6 +20,7 @@
 
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/state_stream.hpp"
+#include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
 #include "engine/semantic/map/labelled_point_map.hpp"
 #include "engine/semantic/map/map_block_schedule.hpp"
@@ -50,8 +51,8 @@ class DgcnnMapClassifier {
   DgcnnMapClassifier(const DgcnnModel& model, const DgcnnMapClassifierSettings& settings);
 
   // Adds the scan's points to the map, classifies the blocks that are ready,
-  // then sets the scan's labels and one score channel per model class from
-  // the map. Runs the blocks in parallel in the caller's TBB arena; the
+  // then sets the scan's labels and one score channel per sarmap class
+  // (class_probabilities()) from the map. Runs the blocks in parallel in the caller's TBB arena; the
   // result does not depend on the thread count.
   DgcnnMapClassifyStats classify(PointBuffer& scan);
   // Classifies every block still holding points no classification has seen
@@ -70,8 +71,15 @@ class DgcnnMapClassifier {
   std::size_t relabel(PointBuffer& points) const;
 
   const LabelledPointMap& map() const { return map_; }
-  // The class of each score channel of the map's points.
+  // The sarmap class of each score channel of the map's points (one per
+  // model logit; several may share a class).
   const std::vector<ClassId>& channel_classes() const { return model_.metadata().classes; }
+  // Sums the map's per-logit scores per sarmap class; labels are the arg-max
+  // of those sums, as the per-scan classifier's are.
+  const ClassProbabilities& class_probabilities() const { return class_probabilities_; }
+  // The class of map point p by that rule (its own scores or its classified
+  // neighbour's: scored_point), or Unknown while it has none.
+  ClassId map_point_class(std::uint32_t p) const;
   const MapBlockSchedule& blocks() const { return schedule_; }
   std::size_t blocks_classified() const { return blocks_classified_; }
   // The map points the last classify() added or classified again (possibly
@@ -89,6 +97,7 @@ class DgcnnMapClassifier {
 
   const DgcnnModel& model_;
   DgcnnMapClassifierSettings settings_;
+  ClassProbabilities class_probabilities_;
   LabelledPointMap map_;
   MapBlockSchedule schedule_;
   std::size_t blocks_classified_ = 0;

@@ -66,6 +66,11 @@ class LabelledPointMap {
   // Mean probabilities of point p over its blocks into out[0 .. classes);
   // zeros when hits(p) == 0.
   void mean_scores(std::uint32_t p, float* out) const;
+  // Point p's integer score sums (classes() of them: kScoreScale x the sum
+  // of its blocks' probabilities), exact for arg-max without rounding.
+  std::span<const std::uint32_t> score_sums(std::uint32_t p) const {
+    return std::span(sums_).subspan(static_cast<std::size_t>(p) * classes_, classes_);
+  }
   // The channel with the highest mean score (the first on ties), or -1 when
   // unclassified.
   int best_channel(std::uint32_t p) const;
