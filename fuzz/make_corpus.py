@@ -138,6 +138,11 @@ def main():
     put("dgcnn_model", "tiny_model_module_prefix.safetensors",
         safetensors(tiny_dgcnn(width=3, classes=5, prefix="module.", bn_duplicates=True),
                     dict(MODEL_METADATA, **{"sarmap.classes": "terrain,wall,inclined_ramp,flat_ramp,other"})))
+    # Another data set's class list with a map onto sarmap's (S3DIS's 13 names).
+    put("dgcnn_model", "tiny_model_s3dis_class_map.safetensors",
+        safetensors(tiny_dgcnn(classes=13), dict(MODEL_METADATA, **{
+            "sarmap.classes": "ceiling,floor,wall,beam,column,window,door,table,chair,sofa,bookcase,board,clutter",
+            "sarmap.class_map": json.dumps({"board": "wall", "door": "other"})})))
 
     copy("arena", "datasets/arenas/esogu-6x4.json", "datasets/arenas/building-52x15.json",
          "tests/cli/data/tiny_arena.json", "tests/cli/data/room_with_door.json")
