@@ -21,8 +21,7 @@
 
 namespace sarmap {
 
-DgcnnClassifier::DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings)
-    : model_(model), settings_(settings), class_probabilities_(model.metadata().classes) {
+const DgcnnModel& require_labelling_metadata(const DgcnnModel& model) {
   const DgcnnMetadata& m = model.metadata();
   if (!m.has_preprocessing()) {
     throw Error(ErrorCode::InvalidData, "DGCNN model lacks the sarmap.normalisation / sarmap.classes metadata "
@@ -36,7 +35,13 @@ DgcnnClassifier::DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSetting
     throw Error(ErrorCode::Unsupported, "DGCNN model with " + std::to_string(model.channels()) +
                                             " input channels; block features give 6 or 9");
   }
+  return model;
 }
+
+DgcnnClassifier::DgcnnClassifier(const DgcnnModel& model, DgcnnClassifierSettings settings)
+    : model_(require_labelling_metadata(model)),
+      settings_(settings),
+      class_probabilities_(model.metadata().classes) {}
 
 DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
   const DgcnnMetadata& m = model_.metadata();

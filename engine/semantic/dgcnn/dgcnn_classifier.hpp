@@ -25,6 +25,10 @@ struct DgcnnClassifierSettings {
   SteepSurfaceVetoSettings ramp_veto;  // inclined-ramp labels on steep surfaces become wall / other
 };
 
+// Throws sarmap::Error unless `model` can label clouds: its preprocessing
+// metadata, one class per logit, and 6 or 9 input channels. Returns it.
+const DgcnnModel& require_labelling_metadata(const DgcnnModel& model);
+
 struct DgcnnClassifyStats {
   std::size_t blocks = 0;
   std::size_t dropped_points = 0;  // only in dropped blocks: labelled unknown

@@ -31,24 +31,6 @@ MapBlockSettings block_settings(const DgcnnModel& model, const DgcnnMapClassifie
   return b;
 }
 
-const DgcnnModel& checked(const DgcnnModel& model) {
-  const DgcnnMetadata& m = model.metadata();
-  if (!m.has_preprocessing()) {
-    throw Error(ErrorCode::InvalidData, "DGCNN model lacks the sarmap.normalisation / sarmap.classes metadata "
-                                        "needed to label clouds");
-  }
-  if (m.classes.size() != model.classes()) {
-    throw Error(ErrorCode::InvalidData, "DGCNN model metadata names " + std::to_string(m.classes.size()) +
-                                            " classes but the network has " + std::to_string(model.classes()) +
-                                            " logits");
-  }
-  if (model.channels() != 6 && model.channels() != 9) {
-    throw Error(ErrorCode::Unsupported, "DGCNN model with " + std::to_string(model.channels()) +
-                                            " input channels; block features give 6 or 9");
-  }
-  return model;
-}
-
 // A seed per block and classification, so that a block classified again
 // draws other samples and no two blocks share theirs.
 std::uint64_t block_stream(const MapBlock& block) {
@@ -63,7 +45,7 @@ std::uint64_t block_stream(const MapBlock& block) {
 }  // namespace
 
 DgcnnMapClassifier::DgcnnMapClassifier(const DgcnnModel& model, const DgcnnMapClassifierSettings& settings)
-    : model_(checked(model)),
+    : model_(require_labelling_metadata(model)),
       settings_(settings),
       class_probabilities_(model.metadata().classes),
       map_(settings.cell, model.classes()),
