@@ -9,6 +9,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/metric/voxel_key.hpp"
+#include "engine/pipeline/voxel_classes_from_point_map.hpp"
 
 namespace sarmap::pipeline {
 
@@ -120,9 +121,9 @@ void Mapper::run_stages(Scan& scan) {
                 {"rays", s.rays},
                 {"voxel_visits", s.voxel_visits},
                 {"voxels_updated", s.hits + s.misses}});
-    if (classifier_->accumulated_map() != nullptr) {
-      profile_.add_count("metric", "voxels_classed_from_point_map",
-                         static_cast<double>(take_voxel_classes_from_point_map(classes_changed_)));
+    if (const DgcnnMapClassifier* on_map = classifier_->accumulated_map()) {
+      const std::size_t voxels = take_voxel_classes_from_point_map(*on_map, map_, classes_changed_);
+      profile_.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
     }
     // Scans too large for the dense scratch run slower through hash tables (IntegratorSettings).
     profile_.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
@@ -176,8 +177,8 @@ void Mapper::finish() {
   }
   {
     const auto timer = profile_.time("metric");
-    profile_.add_count("metric", "voxels_classed_from_point_map",
-                       static_cast<double>(take_voxel_classes_from_point_map(changed)));
+    const std::size_t voxels = take_voxel_classes_from_point_map(*classifier_->accumulated_map(), map_, changed);
+    profile_.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
   }
   if (changed.empty()) return;
   // The topological map follows the classes the last blocks gave.
@@ -192,49 +193,6 @@ bool Mapper::forgetting_due() const {
 bool Mapper::in_kept_block(double x, double y, double z) const {
   return metric::within_map_limits(x, y, z) &&
          map_.blocks().voxel(metric::key_of(x, y, z, map_.inv_resolution())) != nullptr;
-}
-
-std::size_t Mapper::take_voxel_classes_from_point_map(Bounds& changed_region) {
-  const DgcnnMapClassifier& classifier = *classifier_->accumulated_map();
-  const LabelledPointMap& points = classifier.map();
-  const std::vector<ClassId>& classes = classifier.channel_classes();
-  const double inv = map_.inv_resolution(), res = map_.resolution();
-  const auto voxel_of = [&](std::uint32_t p) {
-    return metric::key_of(points.points().x()[p], points.points().y()[p], points.points().z()[p], inv);
-  };
-  std::vector<std::uint64_t> voxels;
-  voxels.reserve(classifier.changed_points().size());
-  for (const std::uint32_t p : classifier.changed_points()) voxels.push_back(metric::pack(voxel_of(p)));
-  std::sort(voxels.begin(), voxels.end());
-  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
-  std::vector<float> mean(classes.size());
-  std::size_t changed = 0;
-  for (const std::uint64_t word : voxels) {
-    const metric::VoxelKey key = metric::unpack_voxel(word);
-    const double lo[3] = {key.x * res, key.y * res, key.z * res};
-    const double hi[3] = {lo[0] + res, lo[1] + res, lo[2] + res};
-    // One observation of the voxel's map points, each with its mean scores.
-    metric::ClassObservation observation;
-    points.for_each_near_box(lo, hi, [&](std::uint32_t p) {
-      if (voxel_of(p) != key) return;
-      const std::uint32_t scored = points.scored_point(p);
-      if (scored == LabelledPointMap::kNoPoint) return;
-      points.mean_scores(scored, mean.data());
-      // The label by the classifiers' own rule (several logits may share a class).
-      ++observation.counts[static_cast<std::size_t>(classifier.map_point_class(scored))];
-      for (std::size_t c = 0; c < classes.size(); ++c) {
-        observation.score_sums[static_cast<std::size_t>(classes[c])] += mean[c];
-      }
-      ++observation.points;
-    });
-    if (observation.points == 0) continue;
-    observation.has_scores = true;
-    if (map_.replace_evidence(key, observation)) {
-      ++changed;
-      changed_region.extend(map_.center_of(key));
-    }
-  }
-  return changed;
 }
 
 void Mapper::forget_dropped_regions() {

@@ -117,11 +117,6 @@ class Mapper {
   // are enough to make it worth one.
   bool forgetting_due() const;
   bool in_kept_block(double x, double y, double z) const;
-  // Where classes come from the accumulated map: the voxels holding map
-  // points that the last scan added or classified again take their class
-  // evidence from those points. Returns how many voxels changed; `changed`
-  // grows by their centres (the topological map must look there again).
-  std::size_t take_voxel_classes_from_point_map(Bounds& changed);
 
   MapperConfig config_;
   metric::MetricMap map_;

@@ -1,0 +1,54 @@
+#include "engine/pipeline/voxel_classes_from_point_map.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "engine/metric/voxel_key.hpp"
+
+namespace sarmap::pipeline {
+
+std::size_t take_voxel_classes_from_point_map(const DgcnnMapClassifier& classifier, metric::MetricMap& map,
+                                              Bounds& changed_region) {
+  const LabelledPointMap& points = classifier.map();
+  const std::vector<ClassId>& classes = classifier.channel_classes();
+  const double inv = map.inv_resolution(), res = map.resolution();
+  const auto voxel_of = [&](std::uint32_t p) {
+    return metric::key_of(points.points().x()[p], points.points().y()[p], points.points().z()[p], inv);
+  };
+  std::vector<std::uint64_t> voxels;
+  voxels.reserve(classifier.changed_points().size());
+  for (const std::uint32_t p : classifier.changed_points()) voxels.push_back(metric::pack(voxel_of(p)));
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  std::vector<float> mean(classes.size());
+  std::size_t changed = 0;
+  for (const std::uint64_t word : voxels) {
+    const metric::VoxelKey key = metric::unpack_voxel(word);
+    const double lo[3] = {key.x * res, key.y * res, key.z * res};
+    const double hi[3] = {lo[0] + res, lo[1] + res, lo[2] + res};
+    // One observation of the voxel's map points, each with its mean scores.
+    metric::ClassObservation observation;
+    points.for_each_near_box(lo, hi, [&](std::uint32_t p) {
+      if (voxel_of(p) != key) return;
+      const std::uint32_t scored = points.scored_point(p);
+      if (scored == LabelledPointMap::kNoPoint) return;
+      points.mean_scores(scored, mean.data());
+      // The label by the classifiers' own rule (several logits may share a class).
+      ++observation.counts[static_cast<std::size_t>(classifier.map_point_class(scored))];
+      for (std::size_t c = 0; c < classes.size(); ++c) {
+        observation.score_sums[static_cast<std::size_t>(classes[c])] += mean[c];
+      }
+      ++observation.points;
+    });
+    if (observation.points == 0) continue;
+    observation.has_scores = true;
+    if (map.replace_evidence(key, observation)) {
+      ++changed;
+      changed_region.extend(map.center_of(key));
+    }
+  }
+  return changed;
+}
+
+}  // namespace sarmap::pipeline
