@@ -15,6 +15,7 @@
 #include "engine/metric/voxel_key.hpp"
 #include "engine/pipeline/run_summary.hpp"
 #include "tests/metric/synthetic_room.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap::pipeline {
 namespace {
@@ -65,6 +66,7 @@ std::map<std::uint64_t, ClassId> voxel_classes_of_point_map(const DgcnnMapClassi
 }
 
 TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
+  RELEASE_ONLY();  // minutes under the sanitizers; the bounded case below runs the same path there
   const MapperConfig config = map_classifier_config();
   Mapper mapper(config);
   integrate_room(mapper, 6);

@@ -15,6 +15,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/semantic/map/dgcnn_map_classifier.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap {
 namespace {
@@ -62,6 +63,7 @@ struct BlockBefore {
 };
 
 TEST(DgcnnMapClassifier, ClassifiesABlockWhenItHasGrownPastTheThresholdOrStoppedGrowing) {
+  RELEASE_ONLY();  // many network blocks, minutes under the sanitizers; the other cases cover the code there
   DgcnnMapClassifier classifier(fixture_model(), settings());
   std::vector<DgcnnMapClassifyStats> stats;
   std::size_t grown = 0, quiet = 0;
@@ -257,6 +259,7 @@ TEST(DgcnnMapClassifier, SparseBlocksStayUnknownUntilTheyFill) {
 }
 
 TEST(DgcnnMapClassifier, SameLabelsForOneAndTwoThreads) {
+  RELEASE_ONLY();  // many network blocks, minutes under the sanitizers; the other cases cover the code there
   std::vector<PointBuffer> one, two;
   {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
@@ -277,6 +280,7 @@ TEST(DgcnnMapClassifier, SameLabelsForOneAndTwoThreads) {
 }
 
 TEST(DgcnnMapClassifier, ALoadedStateContinuesIdentically) {
+  RELEASE_ONLY();  // many network blocks, minutes under the sanitizers; the other cases cover the code there
   DgcnnMapClassifier straight(fixture_model(), settings());
   const std::vector<PointBuffer> expected = run(straight, 6, nullptr);
   DgcnnMapClassifier first(fixture_model(), settings());
