@@ -78,6 +78,18 @@ void init_ray(RTCRayHit& rh, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+// One checked ray's first hit in `scene` (geomID invalid on a miss).
+RTCRayHit cast_one(RTCScene scene, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                   float t_near, float t_far) {
+  check_ray(origin, &direction, t_near, t_far);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  init_ray(rh, origin, direction, t_near, t_far);
+  rtcIntersect1(scene, &context, &rh);
+  return rh;
+}
+
 // A segment as Embree's ray: origin p, direction q - p, t in [0, 1]. False
 // for a segment whose float direction is zero: it crosses no surface.
 bool segment_ray(const Segment& s, Eigen::Vector3f& origin, Eigen::Vector3f& direction) {
@@ -155,12 +167,7 @@ TriangleScene::~TriangleScene() = default;
 
 TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
                                             float t_near, float t_far) const {
-  check_ray(origin, &direction, t_near, t_far);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh;
-  init_ray(rh, origin, direction, t_near, t_far);
-  rtcIntersect1(impl_->scene, &context, &rh);
+  const RTCRayHit rh = cast_one(impl_->scene, origin, direction, t_near, t_far);
   Hit hit;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
     hit.hit = true;
@@ -173,12 +180,7 @@ TriangleScene::Hit TriangleScene::intersect(const Eigen::Vector3f& origin, const
 TriangleScene::SurfaceHit TriangleScene::closest_hit(const Eigen::Vector3f& origin,
                                                      const Eigen::Vector3f& direction, float t_near,
                                                      float t_far) const {
-  check_ray(origin, &direction, t_near, t_far);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh;
-  init_ray(rh, origin, direction, t_near, t_far);
-  rtcIntersect1(impl_->scene, &context, &rh);
+  const RTCRayHit rh = cast_one(impl_->scene, origin, direction, t_near, t_far);
   SurfaceHit hit;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
   hit.hit = true;
