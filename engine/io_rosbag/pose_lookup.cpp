@@ -99,6 +99,17 @@ std::vector<std::string> TfTree::frames() const {
   return {all.begin(), all.end()};
 }
 
+Pose TfTree::edge_pose(const std::string& child, const Edge& edge, double stamp, double tolerance) {
+  const std::optional<Pose> pose =
+      edge.is_static ? edge.track.nearest(0.0, 0.0) : edge.track.nearest(stamp, tolerance);
+  if (!pose) {
+    throw Error(ErrorCode::InvalidData, "/tf: no transform from '" + edge.parent + "' to '" + child +
+                                            "' within " + seconds(tolerance) + " s of " + seconds(stamp) +
+                                            " s");
+  }
+  return *pose;
+}
+
 std::vector<std::pair<std::string, Pose>> TfTree::chain_to_root(const std::string& frame, double stamp,
                                                                 double tolerance,
                                                                 const std::string& fixed_frame) const {
@@ -110,14 +121,8 @@ std::vector<std::pair<std::string, Pose>> TfTree::chain_to_root(const std::strin
     if (chain.size() > edges_.size()) {
       throw Error(ErrorCode::InvalidData, "/tf: the frames above '" + frame + "' form a loop");
     }
-    const std::optional<Pose> pose = edge->second.is_static ? edge->second.track.nearest(0.0, 0.0)
-                                                            : edge->second.track.nearest(stamp, tolerance);
-    if (!pose) {
-      throw Error(ErrorCode::InvalidData, "/tf: no transform from '" + edge->second.parent + "' to '" + at +
-                                              "' within " + seconds(tolerance) + " s of " + seconds(stamp) +
-                                              " s");
-    }
-    chain.emplace_back(at, *pose);
+    const Pose pose = edge_pose(at, edge->second, stamp, tolerance);
+    chain.emplace_back(at, pose);
     at = edge->second.parent;
   }
   return chain;
@@ -147,14 +152,8 @@ Pose TfTree::lookup(const std::string& fixed_frame, const std::string& frame, do
       throw Error(ErrorCode::InvalidData, "/tf: frames '" + fixed_frame + "' and '" + frame +
                                               "' are not connected by /tf or /tf_static");
     }
-    const std::optional<Pose> pose = edge->second.is_static ? edge->second.track.nearest(0.0, 0.0)
-                                                            : edge->second.track.nearest(stamp, tolerance);
-    if (!pose) {
-      throw Error(ErrorCode::InvalidData, "/tf: no transform from '" + edge->second.parent + "' to '" + at +
-                                              "' within " + seconds(tolerance) + " s of " + seconds(stamp) +
-                                              " s");
-    }
-    fixed_in_meet = fixed_in_meet ? compose(*pose, *fixed_in_meet) : *pose;
+    const Pose pose = edge_pose(at, edge->second, stamp, tolerance);
+    fixed_in_meet = fixed_in_meet ? compose(pose, *fixed_in_meet) : pose;
     at = edge->second.parent;
   }
   // Pose of `frame` in the meeting frame: the first on_path[at] edges of `up`.

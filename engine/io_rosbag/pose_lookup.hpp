@@ -54,6 +54,10 @@ class TfTree {
     bool is_static = false;
     PoseTrack track;
   };
+  // The pose of `child` in its parent at `stamp` (a static edge at any time);
+  // throws sarmap::Error (InvalidData) naming both frames when none is
+  // within `tolerance`.
+  static Pose edge_pose(const std::string& child, const Edge& edge, double stamp, double tolerance);
   // Path from `frame` up to its root: each frame and the pose of it in its parent.
   std::vector<std::pair<std::string, Pose>> chain_to_root(const std::string& frame, double stamp,
                                                           double tolerance,
