@@ -9,13 +9,6 @@
 
 namespace sarmap {
 
-namespace {
-
-// The metric map's limits: farther points are never mapped.
-constexpr double kMaxCoordinate = 1.0e4;
-
-}  // namespace
-
 LabelledPointMap::LabelledPointMap(double cell, std::size_t classes)
     : cell_(cell), inverse_cell_(1.0 / cell), classes_(classes) {
   if (!(cell >= 0.01) || !std::isfinite(cell)) {
@@ -40,7 +33,7 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
   if (colours && !points_.has_colors()) points_.enable_colors();
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
-    if (!(std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate && std::abs(z) <= kMaxCoordinate)) continue;
+    if (!in_reach(x, y, z)) continue;
     const auto [it, fresh] = index_.try_emplace(cell_key(x, y, z), static_cast<std::uint32_t>(points_.size()));
     if (fresh) {
       points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
@@ -60,7 +53,7 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
 }
 
 std::uint32_t LabelledPointMap::find(double x, double y, double z) const {
-  if (!(std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate && std::abs(z) <= kMaxCoordinate)) {
+  if (!in_reach(x, y, z)) {
     return kNoPoint;
   }
   const auto it = index_.find(cell_key(x, y, z));
@@ -68,7 +61,7 @@ std::uint32_t LabelledPointMap::find(double x, double y, double z) const {
 }
 
 std::uint32_t LabelledPointMap::nearest_classified(double x, double y, double z) const {
-  if (!(std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate && std::abs(z) <= kMaxCoordinate)) {
+  if (!in_reach(x, y, z)) {
     return kNoPoint;
   }
   const std::int64_t ci = grid_keys::index(x, inverse_cell_), cj = grid_keys::index(y, inverse_cell_),

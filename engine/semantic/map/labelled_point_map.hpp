@@ -88,6 +88,11 @@ class LabelledPointMap {
   void load_state(StateReader& in);
 
  private:
+  // The metric map's limits: farther points are never mapped.
+  static constexpr double kMaxCoordinate = 1.0e4;
+  static bool in_reach(double x, double y, double z) {
+    return std::abs(x) <= kMaxCoordinate && std::abs(y) <= kMaxCoordinate && std::abs(z) <= kMaxCoordinate;
+  }
   std::uint64_t cell_key(double x, double y, double z) const;
 
   double cell_;
@@ -102,7 +107,7 @@ class LabelledPointMap {
 template <class Fn>
 void LabelledPointMap::for_each_near_box(const double lo[3], const double hi[3], Fn&& fn) const {
   for (int a = 0; a < 3; ++a) {
-    if (!(std::abs(lo[a]) <= 1.0e4 && std::abs(hi[a]) <= 1.0e4 && lo[a] <= hi[a])) return;
+    if (!(std::abs(lo[a]) <= kMaxCoordinate && std::abs(hi[a]) <= kMaxCoordinate && lo[a] <= hi[a])) return;
   }
   const auto first = [&](int a) { return static_cast<std::int64_t>(std::floor(lo[a] * inverse_cell_)); };
   const auto last = [&](int a) { return static_cast<std::int64_t>(std::floor(hi[a] * inverse_cell_)); };
