@@ -16,7 +16,35 @@ StageProfile::ScopedTimer::~ScopedTimer() {
   profile_.add_time(stage_, std::chrono::duration<double>(elapsed).count());
 }
 
-void StageProfile::begin_scan() { per_scan_.emplace_back(order_.size(), 0.0); }
+void StageProfile::begin_scan() {
+  per_scan_.emplace_back(order_.size(), 0.0);
+  latency_.push_back(0.0);
+}
+
+void StageProfile::set_latency(double seconds) {
+  if (per_scan_.empty()) begin_scan();
+  latency_.back() = seconds;
+}
+
+void StageProfile::append(const StageProfile& scans) {
+  std::vector<std::size_t> index(scans.order_.size());
+  for (std::size_t i = 0; i < scans.order_.size(); ++i) index[i] = stage_index(scans.order_[i]);
+  for (std::size_t r = 0; r < scans.per_scan_.size(); ++r) {
+    begin_scan();
+    for (std::size_t i = 0; i < scans.per_scan_[r].size(); ++i) per_scan_.back()[index[i]] += scans.per_scan_[r][i];
+    latency_.back() = scans.latency_[r];
+  }
+  for (std::size_t i = 0; i < scans.order_.size(); ++i) {
+    for (const auto& [name, value] : scans.counters_[i]) counters_[index[i]][name] += value;
+  }
+}
+
+double StageProfile::row_latency(std::size_t scan) const {
+  if (latency_[scan] > 0) return latency_[scan];
+  double sum = 0;
+  for (double v : per_scan_[scan]) sum += v;
+  return sum;
+}
 
 std::size_t StageProfile::stage_index(std::string_view stage) {
   for (std::size_t i = 0; i < order_.size(); ++i) {
@@ -35,7 +63,10 @@ void StageProfile::add_time(std::string_view stage, double seconds) {
 }
 
 void StageProfile::skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open) {
-  if (row_open && !per_scan_.empty()) per_scan_.pop_back();
+  if (row_open && !per_scan_.empty()) {
+    per_scan_.pop_back();
+    latency_.pop_back();
+  }
   ++skipped_count_;
   if (skipped_.size() < kMaxListedSkips) skipped_.push_back({index, std::string(source), std::string(error)});
 }
@@ -53,14 +84,10 @@ double percentile(const std::vector<double>& sorted, double p) {
 }
 }  // namespace
 
-StageProfile::StageStats StageProfile::stats(std::string_view stage) const {
-  StageStats s;
-  const auto it = std::find(order_.begin(), order_.end(), stage);
-  if (it == order_.end() || per_scan_.empty()) return s;
-  const auto i = static_cast<std::size_t>(it - order_.begin());
-  std::vector<double> values;
-  values.reserve(per_scan_.size());
-  for (const auto& row : per_scan_) values.push_back(row[i]);
+namespace {
+StageProfile::StageStats stats_of(std::vector<double> values) {
+  StageProfile::StageStats s;
+  if (values.empty()) return s;
   std::sort(values.begin(), values.end());
   for (double v : values) s.total_s += v;
   s.scans = values.size();
@@ -69,6 +96,23 @@ StageProfile::StageStats StageProfile::stats(std::string_view stage) const {
   s.p95_s = percentile(values, 0.95);
   s.max_s = values.back();
   return s;
+}
+}  // namespace
+
+StageProfile::StageStats StageProfile::stats(std::string_view stage) const {
+  const auto it = std::find(order_.begin(), order_.end(), stage);
+  if (it == order_.end()) return {};
+  const auto i = static_cast<std::size_t>(it - order_.begin());
+  std::vector<double> values;
+  values.reserve(per_scan_.size());
+  for (const auto& row : per_scan_) values.push_back(row[i]);
+  return stats_of(std::move(values));
+}
+
+StageProfile::StageStats StageProfile::latency() const {
+  std::vector<double> values(per_scan_.size());
+  for (std::size_t r = 0; r < per_scan_.size(); ++r) values[r] = row_latency(r);
+  return stats_of(std::move(values));
 }
 
 double StageProfile::counter(std::string_view stage, std::string_view counter) const {
@@ -91,6 +135,10 @@ std::string StageProfile::table() const {
                   s.total_s, s.mean_s * 1e3, s.p50_s * 1e3, s.p95_s * 1e3, s.max_s * 1e3);
     out << line;
   }
+  const StageStats l = latency();
+  std::snprintf(line, sizeof line, "%-16s %10s %10.3f %10.3f %10.3f %10.3f\n", "latency per scan", "", l.mean_s * 1e3,
+                l.p50_s * 1e3, l.p95_s * 1e3, l.max_s * 1e3);
+  out << line;
   std::snprintf(line, sizeof line, "%zu scans in %.3f s wall (%.2f scans/s)\n", scan_count(), wall_s_,
                 wall_s_ > 0 ? static_cast<double>(scan_count()) / wall_s_ : 0.0);
   out << line;
@@ -117,10 +165,13 @@ std::string StageProfile::json() const {
     stages[order_[i]] = st;
   }
   j["stages"] = stages;
+  const StageStats l = latency();
+  j["latency"] = {{"mean_s", l.mean_s}, {"p50_s", l.p50_s}, {"p95_s", l.p95_s}, {"max_s", l.max_s}};
   nlohmann::ordered_json per_scan = nlohmann::ordered_json::array();
-  for (const auto& row : per_scan_) {
+  for (std::size_t s = 0; s < per_scan_.size(); ++s) {
     nlohmann::ordered_json r;
-    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = row[i];
+    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = per_scan_[s][i];
+    r["latency_s"] = row_latency(s);
     per_scan.push_back(r);
   }
   j["per_scan"] = per_scan;
@@ -139,6 +190,7 @@ void StageProfile::save_state(StateWriter& out) const {
   for (const std::string& name : order_) out.put_string(name);
   out.put<std::uint64_t>(per_scan_.size());
   for (const std::vector<double>& row : per_scan_) out.put_vector(row);
+  out.put_vector(latency_);
   for (const std::map<std::string, double>& counters : counters_) {
     out.put<std::uint64_t>(counters.size());
     for (const auto& [name, value] : counters) {
@@ -165,6 +217,8 @@ void StageProfile::load_state(StateReader& in) {
     row = in.get_vector<double>();
     if (row.size() > order.size()) in.fail("a profile row holds more stages than the profile names");
   }
+  std::vector<double> latency = in.get_vector<double>();
+  if (latency.size() != per_scan.size()) in.fail("the profile's latencies do not match its rows");
   std::vector<std::map<std::string, double>> counters(order.size());
   for (std::map<std::string, double>& stage : counters) {
     const std::size_t n = in.get_count(16);
@@ -183,6 +237,7 @@ void StageProfile::load_state(StateReader& in) {
   const auto skipped_count = in.get<std::uint64_t>();
   order_ = std::move(order);
   per_scan_ = std::move(per_scan);
+  latency_ = std::move(latency);
   counters_ = std::move(counters);
   wall_s_ = wall_s;
   skipped_ = std::move(skipped);

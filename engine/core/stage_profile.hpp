@@ -2,7 +2,8 @@
 // table and as the profile.json that `sarmap run` writes:
 //   {"version": 1, "units": "s", "scans": N, "wall_s": ..., "scans_per_second": ...,
 //    "stages": {"<name>": {"total_s", "mean_s", "p50_s", "p95_s", "max_s", <counters>}},
-//    "per_scan": [{"<name>_s": ...}, ...],
+//    "latency": {"mean_s", "p50_s", "p95_s", "max_s"},
+//    "per_scan": [{"<name>_s": ..., "latency_s": ...}, ...],
 //    "skipped_scans": N, "skipped": [{"scan", "source", "error"}, ...]}
 #pragma once
 
@@ -44,6 +45,14 @@ class StageProfile {
   void begin_scan();
   ScopedTimer time(std::string_view stage) { return ScopedTimer(*this, stage); }
   void add_time(std::string_view stage, double seconds);
+  // The current scan's latency, from the start of its read to the end of its
+  // last stage, where that is not the sum of its stage times (stages of
+  // consecutive scans overlapping, Mapper::integrate_stream). Rows without
+  // one count their stage times' sum.
+  void set_latency(double seconds);
+  // Appends `scans`' rows (with their latencies) and adds its counters: the
+  // profile of scans timed apart, e.g. one scan in flight while another is.
+  void append(const StageProfile& scans);
   // Adds to a named counter of a stage (points in, rays cast, ...), summed over scans.
   void add_count(std::string_view stage, std::string_view counter, double value);
   // Records a scan the run skipped (unreadable, or refused by a stage) and
@@ -59,6 +68,8 @@ class StageProfile {
   // Stage names in the order they were first timed.
   const std::vector<std::string>& stage_names() const { return order_; }
   StageStats stats(std::string_view stage) const;
+  // Per-scan latency (set_latency, or the row's sum of stage times).
+  StageStats latency() const;
   double counter(std::string_view stage, std::string_view counter) const;
 
   std::string table() const;
@@ -72,9 +83,11 @@ class StageProfile {
 
  private:
   std::size_t stage_index(std::string_view stage);
+  double row_latency(std::size_t scan) const;
 
   std::vector<std::string> order_;
   std::vector<std::vector<double>> per_scan_;  // [scan][stage] seconds
+  std::vector<double> latency_;                // [scan] seconds, 0: the row's sum
   std::vector<std::map<std::string, double>> counters_;  // [stage]
   double wall_s_ = 0;
   struct SkippedScan {

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <vector>
+
+#include "engine/core/state_stream.hpp"
+
 namespace sarmap {
 namespace {
 
@@ -45,6 +50,53 @@ TEST(StageProfile, JsonFollowsTheProfileFormat) {
   EXPECT_DOUBLE_EQ(j["per_scan"][0]["preprocess_s"].get<double>(), 0.0);
   EXPECT_GE(j["per_scan"][0]["read_s"].get<double>(), 0.0);
   EXPECT_NE(profile.table().find("preprocess"), std::string::npos);
+}
+
+// A scan's latency is its stage times' sum unless set (stages of two scans
+// overlapping); appended rows keep theirs, and counters add up by stage name.
+TEST(StageProfile, LatencyPerScanAndAppendedRows) {
+  StageProfile profile;
+  profile.begin_scan();
+  profile.add_time("read", 0.002);
+  profile.add_time("metric", 0.003);
+  profile.add_count("metric", "rays", 10);
+
+  StageProfile in_flight;  // stages first seen in another order, one new
+  in_flight.begin_scan();
+  in_flight.add_time("metric", 0.004);
+  in_flight.add_time("classify", 0.010);
+  in_flight.add_count("metric", "rays", 5);
+  in_flight.add_count("classify", "blocks", 2);
+  in_flight.set_latency(0.030);
+  profile.append(in_flight);
+
+  ASSERT_EQ(profile.scan_count(), 2u);
+  EXPECT_EQ(profile.stage_names(), (std::vector<std::string>{"read", "metric", "classify"}));
+  EXPECT_DOUBLE_EQ(profile.stats("metric").total_s, 0.007);
+  EXPECT_DOUBLE_EQ(profile.stats("classify").max_s, 0.010);
+  EXPECT_DOUBLE_EQ(profile.counter("metric", "rays"), 15);
+  EXPECT_DOUBLE_EQ(profile.counter("classify", "blocks"), 2);
+  const StageProfile::StageStats latency = profile.latency();
+  EXPECT_EQ(latency.scans, 2u);
+  EXPECT_DOUBLE_EQ(latency.p50_s, 0.005);
+  EXPECT_DOUBLE_EQ(latency.max_s, 0.030);
+  const auto j = nlohmann::json::parse(profile.json());
+  EXPECT_DOUBLE_EQ(j["latency"]["max_s"].get<double>(), 0.030);
+  EXPECT_DOUBLE_EQ(j["per_scan"][1]["latency_s"].get<double>(), 0.030);
+  EXPECT_NE(profile.table().find("latency"), std::string::npos);
+
+  // A skipped scan's row goes with its latency; the state keeps the rest.
+  profile.begin_scan();
+  profile.set_latency(1.0);
+  profile.skip_scan(7, "frame 7", "damaged", /*row_open=*/true);
+  EXPECT_DOUBLE_EQ(profile.latency().max_s, 0.030);
+  StateWriter out;
+  profile.save_state(out);
+  StageProfile loaded;
+  const std::string bytes = out.bytes();
+  StateReader in(bytes, "profile");
+  loaded.load_state(in);
+  EXPECT_EQ(loaded.json(), profile.json());
 }
 
 }  // namespace
