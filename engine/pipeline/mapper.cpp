@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
 #include <string_view>
 #include <utility>
 
@@ -63,82 +66,102 @@ void Mapper::begin_scan() {
   row_open_ = true;
 }
 
+Error Mapper::scan_error(const Scan& scan, const Error& e) {
+  return Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
+}
+
 void Mapper::integrate(Scan& scan) {
   if (!row_open_) profile_.begin_scan();
   row_open_ = false;
   try {
     run_stages(scan);
   } catch (const Error& e) {
-    throw Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
+    throw scan_error(scan, e);
   }
 }
 
 void Mapper::run_stages(Scan& scan) {
+  std::vector<VoxelClassUpdate> voxel_classes;
+  const std::uint64_t number = classify_half(scan, profile_, voxel_classes);
+  maps_half(scan, number, profile_, voxel_classes);
+}
+
+std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vector<VoxelClassUpdate>& voxel_classes) {
+  const std::uint64_t number = ++classify_stages_;
+  forget_in_classifier(number, profile);
   {
-    const auto timer = profile_.time("preprocess");
+    const auto timer = profile.time("preprocess");
     const Eigen::Vector3d& o = scan.origin;
     if (!metric::within_map_limits(o.x(), o.y(), o.z()) || !scan.pose.matrix().allFinite()) {
       throw Error(ErrorCode::OutOfRange, "sensor origin (" + std::to_string(o.x()) + ", " + std::to_string(o.y()) +
                                              ", " + std::to_string(o.z()) +
                                              ") or pose is not finite or beyond the map limits of +-10 km");
     }
-    profile_.add_count("preprocess", "points_in", static_cast<double>(scan.points.size()));
+    profile.add_count("preprocess", "points_in", static_cast<double>(scan.points.size()));
     scan.points.remove_non_finite();
     if (config_.max_point_distance > 0) {
       const std::size_t far = scan.points.remove_farther_than(o, config_.max_point_distance);
-      profile_.add_count("preprocess", "points_far", static_cast<double>(far));
+      profile.add_count("preprocess", "points_far", static_cast<double>(far));
     }
-    profile_.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
+    profile.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
   }
-  {
-    const auto timer = profile_.time("classify");
-    // The input's labels are ground truth (kept as gt_label unless the input
-    // carries its own); any classifier but "labels" then overwrites label.
-    if (scan.points.has_labels() && !scan.points.has_gt_labels()) {
-      scan.points.enable_gt_labels();
-      std::copy(scan.points.labels().begin(), scan.points.labels().end(), scan.points.gt_labels().begin());
-    }
-    const ClassifyCounts counts = classifier_->classify(scan.points);
-    add_counts(profile_, "classify",
-               {{"points", scan.points.size()},
-                {"blocks", counts.blocks},
-                {"unlabelled", counts.unlabelled},
-                {"ramp_vetoed", counts.vetoed},
-                {"wall_bands", counts.wall_bands},
-                {"ramp_sides", counts.ramp_sides},
-                {"wall_feet", counts.wall_feet}});
-    if (classifier_->labels_arrive_late()) {
-      profile_.add_count("classify", "map_points_added", static_cast<double>(counts.map_points_added));
-    }
+  const auto timer = profile.time("classify");
+  // The input's labels are ground truth (kept as gt_label unless the input
+  // carries its own); any classifier but "labels" then overwrites label.
+  if (scan.points.has_labels() && !scan.points.has_gt_labels()) {
+    scan.points.enable_gt_labels();
+    std::copy(scan.points.labels().begin(), scan.points.labels().end(), scan.points.gt_labels().begin());
   }
+  const ClassifyCounts counts = classifier_->classify(scan.points);
+  add_counts(profile, "classify",
+             {{"points", scan.points.size()},
+              {"blocks", counts.blocks},
+              {"unlabelled", counts.unlabelled},
+              {"ramp_vetoed", counts.vetoed},
+              {"wall_bands", counts.wall_bands},
+              {"ramp_sides", counts.ramp_sides},
+              {"wall_feet", counts.wall_feet}});
+  if (classifier_->labels_arrive_late()) {
+    profile.add_count("classify", "map_points_added", static_cast<double>(counts.map_points_added));
+  }
+  // What the metric stage needs of the classifier, read now: the next scan's
+  // classification may already run while this one's rays go in.
+  if (const DgcnnMapClassifier* on_map = classifier_->accumulated_map()) {
+    voxel_classes = voxel_classes_from_point_map(*on_map, map_.resolution(), map_.inv_resolution());
+  }
+  return number;
+}
+
+void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& profile,
+                       const std::vector<VoxelClassUpdate>& voxel_classes) {
   {
-    const auto timer = profile_.time("metric");
+    const auto timer = profile.time("metric");
     const metric::IntegrationStats s = integrator_.integrate(map_, scan.points, scan.origin);
     stats_ += s;
-    add_counts(profile_, "metric",
+    add_counts(profile, "metric",
                {{"points_in", s.points_in},
                 {"points_rejected", s.points_rejected},
                 {"rays", s.rays},
                 {"voxel_visits", s.voxel_visits},
                 {"voxels_updated", s.hits + s.misses}});
-    if (const DgcnnMapClassifier* on_map = classifier_->accumulated_map()) {
-      const std::size_t voxels = take_voxel_classes_from_point_map(*on_map, map_, classes_changed_);
-      profile_.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
+    if (classifier_->accumulated_map() != nullptr) {
+      const std::size_t voxels = apply_voxel_classes(voxel_classes, map_, classes_changed_);
+      profile.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
     }
     // Scans too large for the dense scratch run slower through hash tables (IntegratorSettings).
-    profile_.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
+    profile.add_count("metric", "scans_hashed_walk", static_cast<double>(s.rays > 0 ? 1 - s.dense_walks : 0));
     if (config_.bounds.limited()) {
       const std::size_t dropped = metric::apply_bounds(map_, scan.origin, config_.bounds);
       blocks_dropped_ += dropped;
       blocks_dropped_unforgotten_ += dropped;
-      profile_.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
+      profile.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
     }
   }
-  if (forgetting_due()) forget_dropped_regions();
+  if (forgetting_due()) forget_dropped_regions(classify_number, profile);
   {
-    const auto timer = profile_.time("segment");
+    const auto timer = profile.time("segment");
     const segments::SegmentUpdate u = segments_.integrate(scan.points, scan.origin);
-    add_counts(profile_, "segment",
+    add_counts(profile, "segment",
                {{"points_in", u.points_in},
                 {"points_far", u.points_far},
                 {"points_new", u.points_new},
@@ -149,14 +172,14 @@ void Mapper::run_stages(Scan& scan) {
                 {"removed", u.removed}});
   }
   {
-    const auto timer = profile_.time("topo");
+    const auto timer = profile.time("topo");
     // The scan changed voxels only between its origin and its points.
     Bounds changed = scan.points.bounds();
     changed.extend(scan.origin);
     changed.extend(classes_changed_);
     classes_changed_ = {};
     const topo::TopoUpdate u = topo_.update(segments_, map_, &changed);
-    add_counts(profile_, "topo",
+    add_counts(profile, "topo",
                {{"nodes_added", u.nodes_added},
                 {"nodes_retired", u.nodes_retired},
                 {"candidates", u.candidates},
@@ -169,6 +192,7 @@ void Mapper::run_stages(Scan& scan) {
 }
 
 void Mapper::finish() {
+  forget_in_classifier(std::numeric_limits<std::uint64_t>::max(), profile_);
   if (classifier_->accumulated_map() == nullptr) return;
   Bounds changed;
   {
@@ -177,7 +201,9 @@ void Mapper::finish() {
   }
   {
     const auto timer = profile_.time("metric");
-    const std::size_t voxels = take_voxel_classes_from_point_map(*classifier_->accumulated_map(), map_, changed);
+    const std::size_t voxels = apply_voxel_classes(
+        voxel_classes_from_point_map(*classifier_->accumulated_map(), map_.resolution(), map_.inv_resolution()), map_,
+        changed);
     profile_.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
   }
   if (changed.empty()) return;
@@ -196,18 +222,54 @@ bool Mapper::in_kept_block(double x, double y, double z) const {
 }
 
 void Mapper::forget_dropped_regions() {
+  // Idle between scans: every part of the pass now, the pending ones first.
+  forget_in_classifier(std::numeric_limits<std::uint64_t>::max(), profile_);
+  forget_dropped_regions(classify_stages_, profile_);
+  forget_in_classifier(std::numeric_limits<std::uint64_t>::max(), profile_);
+}
+
+void Mapper::forget_in_classifier(std::uint64_t classify_number, StageProfile& profile) {
+  std::vector<ClassifierForget> due;
+  {
+    const std::lock_guard<std::mutex> lock(classifier_forgets_mutex_);
+    auto it = classifier_forgets_.begin();
+    while (it != classifier_forgets_.end() && it->at_classify <= classify_number) ++it;
+    due.assign(std::make_move_iterator(classifier_forgets_.begin()), std::make_move_iterator(it));
+    classifier_forgets_.erase(classifier_forgets_.begin(), it);
+  }
+  for (const ClassifierForget& pass : due) {
+    // Only a scan read too early (more than two in flight) lets a pass miss its turn.
+    if (classify_number != std::numeric_limits<std::uint64_t>::max() && pass.at_classify != classify_number) {
+      throw std::logic_error("Mapper: a forgetting pass reached the classifier after its classify stage");
+    }
+    const auto timer = profile.time("classify");
+    const double inv = map_.inv_resolution();
+    const std::size_t points = classifier_->forget([&](double x, double y, double z) {
+      if (!metric::within_map_limits(x, y, z)) return true;
+      const std::uint64_t block = metric::pack(metric::block_of(metric::key_of(x, y, z, inv)));
+      return !std::binary_search(pass.kept_blocks.begin(), pass.kept_blocks.end(), block);
+    });
+    profile.add_count("classify", "map_points_forgotten", static_cast<double>(points));
+  }
+}
+
+void Mapper::forget_dropped_regions(std::uint64_t classify_number, StageProfile& profile) {
   blocks_dropped_unforgotten_ = 0;
   {
-    const auto timer = profile_.time("segment");
+    const auto timer = profile.time("segment");
     const segments::SegmentUpdate u =
         segments_.forget([&](const Eigen::Vector3d& p) { return !in_kept_block(p.x(), p.y(), p.z()); });
-    add_counts(profile_, "segment", {{"points_forgotten", u.points_forgotten}, {"removed", u.removed}});
+    add_counts(profile, "segment", {{"points_forgotten", u.points_forgotten}, {"removed", u.removed}});
   }
   {
-    const auto timer = profile_.time("classify");
-    const std::size_t points = classifier_->forget(
-        [&](double x, double y, double z) { return !in_kept_block(x, y, z); });
-    profile_.add_count("classify", "map_points_forgotten", static_cast<double>(points));
+    ClassifierForget pass;
+    pass.at_classify = classify_number + kClassifierForgetLag;
+    pass.kept_blocks.reserve(map_.blocks().block_count());
+    map_.blocks().for_each_block(
+        [&](const metric::BlockKey& key, const auto&) { pass.kept_blocks.push_back(metric::pack(key)); });
+    std::sort(pass.kept_blocks.begin(), pass.kept_blocks.end());
+    const std::lock_guard<std::mutex> lock(classifier_forgets_mutex_);
+    classifier_forgets_.push_back(std::move(pass));
   }
   std::vector<std::uint32_t> keep;
   keep.reserve(semantic_points_.size());
@@ -215,7 +277,7 @@ void Mapper::forget_dropped_regions() {
     if (in_kept_block(semantic_points_.x()[i], semantic_points_.y()[i], semantic_points_.z()[i])) keep.push_back(i);
   }
   const std::size_t forgotten = semantic_points_.size() - keep.size();
-  profile_.add_count("metric", "semantic_points_forgotten", static_cast<double>(forgotten));
+  profile.add_count("metric", "semantic_points_forgotten", static_cast<double>(forgotten));
   if (forgotten == 0) return;
   semantic_points_ = semantic_points_.select(keep);
   std::vector<std::uint64_t> keys(keep.size());

@@ -1,14 +1,20 @@
 // The pipeline: the only place that knows every stage. A Mapper owns the maps
 // and runs the stages on each scan in order (preprocess, classify, metric,
-// segment, topo), timing each into a StageProfile.
+// segment, topo), timing each into a StageProfile. Fed a stream of scans, it
+// classifies the next scan while the maps take the one before
+// (integrate_stream), with the same maps as one scan at a time.
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_set>
 #include <vector>
 
+#include "engine/core/error.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
@@ -17,6 +23,7 @@
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/pipeline/point_classifier.hpp"
+#include "engine/pipeline/voxel_classes_from_point_map.hpp"
 #include "engine/segments/segment_map.hpp"
 #include "engine/topo/topo_map.hpp"
 
@@ -54,6 +61,25 @@ struct MapperConfig {
   topo::TopoSettings topo;
 };
 
+// One scan of a stream (Mapper::integrate_stream), as it reaches the caller
+// again: mapped, or with the error that cost it.
+struct StreamedScan {
+  std::size_t frame = 0;  // its position in the input
+  Scan scan;
+  bool mapped = false;
+  bool read_failed = false;    // the reader threw: `scan` holds nothing
+  std::optional<Error> error;  // why it was not mapped
+  // Set by the Mapper: the scan's stage times, and its classify stage's
+  // hand-over to the metric stage.
+  StageProfile profile;
+  std::vector<VoxelClassUpdate> voxel_classes;
+  std::uint64_t classify_number = 0;
+  double read_start_s = 0;  // steady clock, for its latency
+};
+
+// Whether a stream's stages overlap: never changes the maps, only the time.
+enum class StageOverlap { Off, On };
+
 class Mapper {
  public:
   // Throws sarmap::Error: InvalidArgument for an unknown classifier or bad
@@ -69,6 +95,23 @@ class Mapper {
   // points a stage cannot take. Those checks come before any map changes, so
   // a caller may skip the scan and go on (`sarmap run` does, unless --strict).
   void integrate(Scan& scan);
+
+  // Reads scans with `read` (frame numbers from `first_frame` on) until it
+  // returns false, maps each as integrate() would and hands it to `done` in
+  // input order, mapped or not: a reader's sarmap::Error costs that frame, a
+  // scan the Mapper refuses costs that scan. `done` may throw to end the
+  // stream (no later scan reaches the maps, but the next one may have been
+  // classified: like a stage's error inside integrate(), such a Mapper is
+  // not to be continued). With StageOverlap::On the classify stage of one scan runs while
+  // the metric, segment and topo stages take the one before (a oneTBB
+  // pipeline of three serial filters: read, classify, maps); the
+  // maps, the classifier's state and the profile's counters are those of
+  // StageOverlap::Off. Between calls the Mapper is idle, so a caller reads or saves it there
+  // (`sarmap run`'s snapshots and checkpoints end one call and start the next).
+  using ScanReader = std::function<bool(std::size_t frame, Scan& scan)>;
+  using ScanDone = std::function<void(StreamedScan& scan)>;
+  void integrate_stream(std::size_t first_frame, const ScanReader& read, const ScanDone& done,
+                        StageOverlap overlap = StageOverlap::On);
 
   // The scans have ended: where classes come from the accumulated map, the
   // blocks still waiting for more points are classified and the metric map's
@@ -112,11 +155,26 @@ class Mapper {
 
  private:
   void run_stages(Scan& scan);
+  // The two halves of run_stages, each timed into `profile`: preprocess and
+  // classify (the classifier's state only; returns the scan's number among
+  // the classify stages run), then the maps' stages.
+  std::uint64_t classify_half(Scan& scan, StageProfile& profile, std::vector<VoxelClassUpdate>& voxel_classes);
+  void maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& profile,
+                 const std::vector<VoxelClassUpdate>& voxel_classes);
+  // The classifier's share of the forgetting passes due by `classify_number`.
+  void forget_in_classifier(std::uint64_t classify_number, StageProfile& profile);
+  void stream_in_order(std::size_t first_frame, const ScanReader& read, const ScanDone& done);
+  void stream_overlapped(std::size_t first_frame, const ScanReader& read, const ScanDone& done);
+  // integrate()'s error naming the scan.
+  static Error scan_error(const Scan& scan, const Error& e);
   void keep_semantic_points(const PointBuffer& points);
   // Whether the blocks dropped since the last forget_dropped_regions() call
   // are enough to make it worth one.
   bool forgetting_due() const;
   bool in_kept_block(double x, double y, double z) const;
+  // A pass from the maps' stages of scan `classify_number`; the classifier's
+  // share waits for the second classify stage after it (kClassifierForgetLag).
+  void forget_dropped_regions(std::uint64_t classify_number, StageProfile& profile);
 
   MapperConfig config_;
   metric::MetricMap map_;
@@ -130,6 +188,19 @@ class Mapper {
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;
+  // A forgetting pass reaches the classifier at the start of the second
+  // classify stage after the scan whose maps' stages made it, with the blocks
+  // the metric map held then: with stages overlapping, the next scan's
+  // classification may already run while the pass is made, never the one
+  // after (integrate_stream keeps two scans in flight). In order, the same.
+  static constexpr std::uint64_t kClassifierForgetLag = 2;
+  struct ClassifierForget {
+    std::uint64_t at_classify = 0;           // the classify stage (counted from 1) that applies it
+    std::vector<std::uint64_t> kept_blocks;  // packed metric block keys, sorted
+  };
+  std::uint64_t classify_stages_ = 0;
+  std::vector<ClassifierForget> classifier_forgets_;  // by at_classify
+  std::mutex classifier_forgets_mutex_;               // the maps' stages add while a classify stage takes
   Bounds classes_changed_;  // voxels the classifier of the accumulated map relabelled, for the next topo update
   std::unordered_set<std::uint64_t> semantic_keys_;  // voxels already holding a kept point
   std::vector<std::uint64_t> semantic_point_keys_;   // per kept point, its voxel

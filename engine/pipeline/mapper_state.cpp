@@ -2,6 +2,7 @@
 // kept points' voxel keys are saved rather than recomputed: a key comes from
 // the point as it arrived, and the stored float copy may round into another
 // voxel.
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,6 +16,12 @@ void Mapper::save_state(StateWriter& out) const {
   out.put(stats_);
   out.put<std::uint64_t>(blocks_dropped_);
   out.put<std::uint64_t>(blocks_dropped_unforgotten_);
+  out.put(classify_stages_);
+  out.put<std::uint64_t>(classifier_forgets_.size());
+  for (const ClassifierForget& pass : classifier_forgets_) {
+    out.put(pass.at_classify);
+    out.put_vector(pass.kept_blocks);
+  }
   classifier_->save_state(out);
   map_.save_state(out);
   segments_.save_state(out);
@@ -29,6 +36,16 @@ void Mapper::load_state(StateReader& in) {
   stats_ = in.get<metric::IntegrationStats>();
   blocks_dropped_ = static_cast<std::size_t>(in.get<std::uint64_t>());
   blocks_dropped_unforgotten_ = static_cast<std::size_t>(in.get<std::uint64_t>());
+  classify_stages_ = in.get<std::uint64_t>();
+  std::vector<ClassifierForget> forgets(in.get_count(16));
+  for (ClassifierForget& pass : forgets) {
+    pass.at_classify = in.get<std::uint64_t>();
+    pass.kept_blocks = in.get_vector<std::uint64_t>();
+    if (!std::is_sorted(pass.kept_blocks.begin(), pass.kept_blocks.end())) {
+      in.fail("a pending forgetting pass's blocks are not sorted");
+    }
+  }
+  classifier_forgets_ = std::move(forgets);
   classifier_->load_state(in);
   map_.load_state(in);
   segments_.load_state(in);

@@ -2,19 +2,15 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <vector>
-
-#include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::pipeline {
 
-std::size_t take_voxel_classes_from_point_map(const DgcnnMapClassifier& classifier, metric::MetricMap& map,
-                                              Bounds& changed_region) {
+std::vector<VoxelClassUpdate> voxel_classes_from_point_map(const DgcnnMapClassifier& classifier,
+                                                           double resolution, double inv_resolution) {
   const LabelledPointMap& points = classifier.map();
   const std::vector<ClassId>& classes = classifier.channel_classes();
-  const double inv = map.inv_resolution(), res = map.resolution();
   const auto voxel_of = [&](std::uint32_t p) {
-    return metric::key_of(points.points().x()[p], points.points().y()[p], points.points().z()[p], inv);
+    return metric::key_of(points.points().x()[p], points.points().y()[p], points.points().z()[p], inv_resolution);
   };
   std::vector<std::uint64_t> voxels;
   voxels.reserve(classifier.changed_points().size());
@@ -22,11 +18,12 @@ std::size_t take_voxel_classes_from_point_map(const DgcnnMapClassifier& classifi
   std::sort(voxels.begin(), voxels.end());
   voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
   std::vector<float> mean(classes.size());
-  std::size_t changed = 0;
+  std::vector<VoxelClassUpdate> updates;
+  updates.reserve(voxels.size());
   for (const std::uint64_t word : voxels) {
     const metric::VoxelKey key = metric::unpack_voxel(word);
-    const double lo[3] = {key.x * res, key.y * res, key.z * res};
-    const double hi[3] = {lo[0] + res, lo[1] + res, lo[2] + res};
+    const double lo[3] = {key.x * resolution, key.y * resolution, key.z * resolution};
+    const double hi[3] = {lo[0] + resolution, lo[1] + resolution, lo[2] + resolution};
     // One observation of the voxel's map points, each with its mean scores.
     metric::ClassObservation observation;
     points.for_each_near_box(lo, hi, [&](std::uint32_t p) {
@@ -43,9 +40,18 @@ std::size_t take_voxel_classes_from_point_map(const DgcnnMapClassifier& classifi
     });
     if (observation.points == 0) continue;
     observation.has_scores = true;
-    if (map.replace_evidence(key, observation)) {
+    updates.push_back({key, observation});
+  }
+  return updates;
+}
+
+std::size_t apply_voxel_classes(const std::vector<VoxelClassUpdate>& updates, metric::MetricMap& map,
+                                Bounds& changed_region) {
+  std::size_t changed = 0;
+  for (const VoxelClassUpdate& u : updates) {
+    if (map.replace_evidence(u.key, u.observation)) {
       ++changed;
-      changed_region.extend(map.center_of(key));
+      changed_region.extend(map.center_of(u.key));
     }
   }
   return changed;

@@ -16,6 +16,7 @@
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/pipeline/same_maps.hpp"
 #include "tests/release_only.hpp"
 
 namespace sarmap::pipeline {
@@ -45,35 +46,6 @@ void integrate_frames(Mapper& mapper, std::size_t from, std::size_t to, std::siz
     Scan scan = simulator.simulate(f);
     mapper.integrate(scan);
   }
-}
-
-// Each stage's state on its own: the profile's timings differ between runs.
-struct MapBytes {
-  std::string metric, segments, topo, points, classifier;
-};
-
-MapBytes bytes_of(const Mapper& mapper) {
-  MapBytes b;
-  StateWriter metric, segments, topo, points, classifier;
-  mapper.metric_map().save_state(metric);
-  mapper.segment_map().save_state(segments);
-  mapper.topo_map().save_state(topo);
-  mapper.semantic_points().save_state(points);
-  mapper.classifier().save_state(classifier);
-  return {metric.bytes(), segments.bytes(), topo.bytes(), points.bytes(), classifier.bytes()};
-}
-
-// Compared as booleans: a failure would print megabytes of state otherwise.
-void expect_same_maps(const Mapper& a, const Mapper& b) {
-  const MapBytes x = bytes_of(a), y = bytes_of(b);
-  EXPECT_TRUE(x.metric == y.metric) << "metric map";
-  EXPECT_TRUE(x.segments == y.segments) << "segment map";
-  EXPECT_TRUE(x.topo == y.topo) << "topological map";
-  EXPECT_TRUE(x.points == y.points) << "semantic points";
-  EXPECT_TRUE(x.classifier == y.classifier) << "classifier memory (ramp decks, labelled point map)";
-  EXPECT_EQ(a.profile().scan_count(), b.profile().scan_count());
-  EXPECT_EQ(a.profile().counter("metric", "rays"), b.profile().counter("metric", "rays"));
-  EXPECT_EQ(a.profile().counter("segment", "created"), b.profile().counter("segment", "created"));
 }
 
 // Runs frames [0, end) in one Mapper, and in two: the second loads the
