@@ -62,6 +62,9 @@ Json run_summary_json(const Mapper& mapper) {
     stages[name] = {{"mean_ms", milliseconds(s.mean_s)}, {"p95_ms", milliseconds(s.p95_s)}};
   }
   j["stages"] = std::move(stages);
+  // From a scan's read to the end of its last stage (StageProfile::latency).
+  const StageProfile::StageStats latency = profile.latency();
+  j["latency"] = {{"p50_ms", milliseconds(latency.p50_s)}, {"p95_ms", milliseconds(latency.p95_s)}};
 
   const metric::MapSummary map = metric::summarize_map(mapper.metric_map());
   j["metric_map"] = {

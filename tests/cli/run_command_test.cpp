@@ -22,6 +22,7 @@
 #include "engine/metric/octomap_color_export.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/png_test_writer.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap {
 namespace {
@@ -124,7 +125,16 @@ TEST_F(RunCommand, WritesEveryOutput) {
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
   EXPECT_EQ(row,
-            (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s"}));
+            (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s",
+                                      "latency_s"}));
+  // A scan's latency covers at least its own stages.
+  for (const auto& scan : profile.at("per_scan")) {
+    double stages_s = 0;
+    for (const auto& [name, value] : scan.items()) {
+      if (name != "latency_s") stages_s += value.get<double>();
+    }
+    EXPECT_GE(scan.at("latency_s").get<double>(), stages_s * 0.999);
+  }
   const auto& segment = profile.at("stages").at("segment");
   for (const char* key : {"points_in", "planes_found", "created", "merged"}) EXPECT_TRUE(segment.contains(key)) << key;
   // Five points are too few for a plane: the files exist and hold no segment.
@@ -150,6 +160,8 @@ TEST_F(RunCommand, WritesEveryOutput) {
     EXPECT_EQ(stage.at("p95_ms").get<double>(), std::round(timed.at("p95_s").get<double>() * 1e6) / 1e3);
   }
   EXPECT_EQ(summary_stages, stages);
+  EXPECT_EQ(summary.at("latency").at("p95_ms").get<double>(),
+            std::round(profile.at("latency").at("p95_s").get<double>() * 1e6) / 1e3);
   EXPECT_EQ(summary.at("metric_map").at("occupied_voxels").get<std::size_t>(), map.counts().occupied);
   EXPECT_EQ(summary.at("metric_map").at("free_voxels").get<std::size_t>(), map.counts().free);
   EXPECT_EQ(summary.at("semantic_points").get<std::size_t>(), 5u);
@@ -304,6 +316,7 @@ TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
 // gets a class, and the manifest records the stride. A stride above the block
 // size would leave gaps and is refused by name.
 TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
+  RELEASE_ONLY();  // five DGCNN runs: over two minutes under ASan, for option plumbing
   const auto run = [&](const std::string& extra, const fs::path& out) { return run_dgcnn(extra, out); };
   const auto blocks = [&](const fs::path& out) {
     return json_of(out / "profile.json").at("stages").at("classify").at("blocks").get<double>();
@@ -335,6 +348,7 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
 // profile counts what they changed (nothing when off). (What they change is
 // tested on exact geometry in tests/semantic; this input is too small.)
 TEST_F(RunCommand, TheRuleSwitchesAreRecordedAndCounted) {
+  RELEASE_ONLY();  // two DGCNN runs: a minute and a half under ASan, for option plumbing
   auto r = run_dgcnn("", dir_ / "veto");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_dgcnn(" --no-ramp-veto --no-wall-bands --no-ramp-sides --no-wall-feet", dir_ / "plain");

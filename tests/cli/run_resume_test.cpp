@@ -100,7 +100,7 @@ class RunResume : public ::testing::Test {
     // summary.json's figures too, but for its timings.
     const auto figures = [](const fs::path& folder) {
       auto summary = nlohmann::json::parse(read_all(folder / "summary.json"));
-      for (const char* timing : {"wall_s", "scans_per_second", "stages"}) summary.erase(timing);
+      for (const char* timing : {"wall_s", "scans_per_second", "stages", "latency"}) summary.erase(timing);
       return summary;
     };
     EXPECT_EQ(figures(a), figures(b)) << "summary.json differs between " << a << " and " << b;

@@ -65,6 +65,7 @@ nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper&
   }
   settings.update(nlohmann::ordered_json{
       {"threads", o.threads},
+      {"overlap", o.overlap},
       {"max_range", mapper.max_range()},
       {"max_point_distance", o.max_point_distance},
       {"keep_radius", o.keep_radius},
@@ -76,13 +77,14 @@ nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper&
 }
 
 // What a checkpoint must match to be continued: the settings and the whole
-// config (the thread count aside: the maps do not depend on it), the input's
+// config (the thread count and stage overlap aside: the maps do not depend on them), the input's
 // layout, frame count and defining file, and the model's bytes.
 std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper, const ScanSource& source,
                             const nlohmann::ordered_json& input) {
   nlohmann::ordered_json what;
   what["settings"] = run_settings(o, mapper);
   what["settings"].erase("threads");
+  what["settings"].erase("overlap");
   what["config"] = pipeline::config_to_json(mapper.config());
   what["input_sha256"] = input["sha256"];
   what["layout"] = source.layout();
@@ -243,9 +245,8 @@ RunSummary run_pipeline(const RunOptions& o) {
   };
 
   ProgressLine progress("run", source->size(), !o.quiet);
-  Scan scan;
   // One unreadable frame or refused scan costs that scan, not the run: both
-  // leave the maps as they were (ScanSource::next, Mapper::integrate).
+  // leave the maps as they were (ScanSource::next, Mapper::integrate_stream).
   SkippedScans skipped(mapper.profile(), o.strict);
   // Every output as the maps stand, into `into` (the run's folder or a snapshot's).
   const auto write_outputs = [&](RunFolderWriter& into) {
@@ -260,36 +261,52 @@ RunSummary run_pipeline(const RunOptions& o) {
     record.voxel_cubes = o.voxel_cubes;
     pipeline::write_run(mapper, into, record);
   };
-  // After every frame, read or not: the checkpoint holds the state between two frames.
-  const auto frame_done = [&](std::size_t frame) {
-    progress.update(frame + 1);
-    if (o.checkpoint_every > 0 && (frame + 1) % o.checkpoint_every == 0) {
-      pipeline::save_checkpoint(checkpoint, {fingerprint, frame + 1, scans, elapsed()}, mapper);
-    }
+  // The Mapper is read (a snapshot) or saved (a checkpoint) only between two
+  // integrate_stream calls: each call ends at the next frame that may need
+  // either, counting the scans in flight as if all of them will be mapped.
+  bool input_ended = false;
+  std::size_t frame = first_frame;  // the next frame to read
+  std::size_t in_flight = 0;        // read, not yet done
+  std::size_t chunk_start = frame;  // where this integrate_stream call began
+  const auto checkpoint_due = [&] {
+    return o.checkpoint_every > 0 && frame != chunk_start && frame % o.checkpoint_every == 0;
   };
-  for (std::size_t frame = first_frame;; ++frame) {
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      if (!source->next(scan)) break;
-    } catch (const Error& e) {
-      skipped.add(frame, "frame " + std::to_string(frame), e, /*row_open=*/false);
-      frame_done(frame);
-      continue;
+  const auto read = [&](std::size_t, Scan& scan) {
+    const bool snapshot_due = next_snapshot != snapshots.end() && scans + in_flight >= *next_snapshot;
+    if (checkpoint_due() || snapshot_due) return false;
+    ++frame;
+    ++in_flight;
+    if (!source->next(scan)) {
+      --frame;
+      --in_flight;
+      input_ended = true;
+      return false;
     }
-    mapper.begin_scan();
-    mapper.profile().add_time("read", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    try {
-      mapper.integrate(scan);
+    return true;
+  };
+  const auto done = [&](pipeline::StreamedScan& item) {
+    --in_flight;
+    if (item.mapped) {
       ++scans;
-    } catch (const Error& e) {
-      skipped.add(frame, scan.source, e, /*row_open=*/true);
+    } else {
+      skipped.add(item.frame, item.read_failed ? "frame " + std::to_string(item.frame) : item.scan.source,
+                  *item.error, /*row_open=*/false);
     }
+    progress.update(item.frame + 1);
+  };
+  const pipeline::StageOverlap overlap = o.overlap ? pipeline::StageOverlap::On : pipeline::StageOverlap::Off;
+  while (!input_ended) {
+    chunk_start = frame;
+    mapper.integrate_stream(frame, read, done, overlap);
     if (next_snapshot != snapshots.end() && scans == *next_snapshot) {
       RunFolderWriter snapshot(snapshot_folder(o.out, scans));
       write_outputs(snapshot);
       ++next_snapshot;
     }
-    frame_done(frame);
+    // The checkpoint holds the state between two frames, read or not.
+    if (checkpoint_due()) {
+      pipeline::save_checkpoint(checkpoint, {fingerprint, frame, scans, elapsed()}, mapper);
+    }
   }
   progress.finish();
   if (scans == 0 && skipped.count() > 0) {
@@ -384,6 +401,10 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
       ->check(finite_non_negative());
+  add_off_switch(cmd, "--no-overlap", o->overlap,
+                 "Run every stage of a scan before the next scan starts (by default the next scan is read "
+                 "and classified while the maps take this one, with the same maps; a run with --keep-radius or "
+                 "--max-blocks runs in order anyway)");
   cmd->add_option("--max-range", o->max_range,
                   "Cut rays longer than this (m); 0 = the sequence's sensor max_range")
       ->capture_default_str()

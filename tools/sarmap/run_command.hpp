@@ -37,6 +37,7 @@ struct RunOptions {
   bool ramp_sides = true;     // wall / other labels under a ramp deck (this scan or earlier) become inclined ramp
   bool wall_feet = true;      // wall labels at the floor's height become terrain
   int threads = 0;
+  bool overlap = true;  // classify the next scan while the maps take this one (same maps)
   double max_range = 0.0;
   double max_point_distance = 1000.0;  // drop points farther from their scan's origin (m); 0 = keep all
   double keep_radius = 0.0;     // drop map blocks farther than this from the sensor (m); 0 = keep all
