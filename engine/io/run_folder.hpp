@@ -17,7 +17,8 @@
 
 namespace sarmap {
 
-inline constexpr int kRunManifestVersion = 1;
+// Version 2 (2026-11-27) dropped "settings", which repeated part of "config".
+inline constexpr int kRunManifestVersion = 2;
 inline constexpr std::string_view kRunManifestName = "manifest.json";
 
 class RunFolderWriter {

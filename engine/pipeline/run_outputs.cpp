@@ -85,7 +85,6 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
   manifest["layout"] = record.layout;
   manifest["scans"] = record.scans;
   manifest["scans_skipped"] = record.scans_skipped;
-  if (!record.settings.is_null()) manifest["settings"] = record.settings;
   // Every setting of the Mapper, for `sarmap run --config OUT/manifest.json`.
   manifest["config"] = config_to_json(mapper.config());
   folder.commit(manifest, outputs);

@@ -28,9 +28,6 @@ struct RunRecord {
   std::string arena_sha256;     // simulated input only: the arena the sequence came from
   std::size_t scans = 0;        // scans mapped
   std::size_t scans_skipped = 0;
-  // What a front end was asked for in its own terms (`sarmap run`'s
-  // "settings"); left out when null.
-  nlohmann::ordered_json settings;
   // Also write voxel_cubes.ply: each occupied voxel as a cube in its class
   // colour, for viewers that know no voxels (listed after voxels.ply).
   bool voxel_cubes = false;
@@ -45,8 +42,7 @@ nlohmann::ordered_json input_record(const std::filesystem::path& input);
 const std::vector<std::string>& run_output_names();
 
 // Writes every output of `mapper` into `folder`, then its manifest.json
-// (version, sarmap version, input, arena, layout, scans, settings, config,
-// outputs). The profile is written as it stands (set its wall time first).
+// (version, sarmap version, input, arena, layout, scans, config, outputs). The profile is written as it stands (set its wall time first).
 // Throws sarmap::Error naming the file that could not be written; the folder
 // then has no manifest, so readers refuse it.
 void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& record);

@@ -71,7 +71,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
   EXPECT_EQ(semantic.size(), 5u);  // 3 + 2 points, each in its own 0.1 m voxel
 
   const auto manifest = nlohmann::json::parse(test::read_all(out / "manifest.json"));
-  EXPECT_EQ(manifest.at("version").get<int>(), 1);
+  EXPECT_EQ(manifest.at("version").get<int>(), 2);
   EXPECT_EQ(fs::path(manifest.at("input").at("path").get<std::string>()), fs::absolute(input_));
   EXPECT_EQ(manifest.at("input").at("sha256").get<std::string>(), sha256_hex(test::read_all(input_ / "sequence.json")));
   EXPECT_EQ(manifest.at("scans").get<int>(), 2);
@@ -89,7 +89,7 @@ TEST_F(RunCommand, WritesEveryOutput) {
                                       "segments.json", "segments.ply", "graph.json", "graph.graphml",
                                       "graph.ply", "grid.pgm", "grid.yaml", "profile.json", "summary.json"}));
   EXPECT_NO_THROW(verify_run_folder(out));
-  EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "labels");
+  EXPECT_EQ(manifest.at("config").at("classifier").at("kind").get<std::string>(), "labels");
 
   const auto profile = nlohmann::ordered_json::parse(test::read_all(out / "profile.json"));
   EXPECT_EQ(profile.at("version").get<int>(), 1);
@@ -272,8 +272,9 @@ TEST_F(RunCommand, GeometricBaselineNeedsNoModel) {
                          dir_);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto manifest = nlohmann::json::parse(test::read_all(out / "manifest.json"));
-  EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "geometric");
-  EXPECT_FALSE(manifest.at("settings").contains("model"));
+  EXPECT_EQ(manifest.at("config").at("classifier").at("kind").get<std::string>(), "geometric");
+  EXPECT_FALSE(manifest.contains("settings"));  // manifest version 2: the config alone
+  EXPECT_EQ(manifest.at("version").get<int>(), 2);
   const PointBuffer semantic = read_point_cloud(out / "semantic_points.ply");
   EXPECT_EQ(semantic.size(), 5u);
   EXPECT_TRUE(semantic.has_gt_labels());  // the input's labels are kept as ground truth
@@ -294,8 +295,8 @@ TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
   EXPECT_EQ(profile.at("stages").at("classify").at("blocks").get<double>(), 0.0);
   EXPECT_EQ(profile.at("stages").at("classify").at("unlabelled").get<double>(), 5.0);
   auto manifest = nlohmann::json::parse(test::read_all(dir_ / "default" / "manifest.json"));
-  EXPECT_EQ(manifest.at("settings").at("classifier").get<std::string>(), "dgcnn");
-  EXPECT_EQ(manifest.at("settings").at("min_block_points").get<int>(), 100);
+  EXPECT_EQ(manifest.at("config").at("classifier").at("kind").get<std::string>(), "dgcnn");
+  EXPECT_EQ(manifest.at("config").at("classifier").at("dgcnn").at("min_points").get<int>(), 100);
 
   r = run(" --min-block-points 1", dir_ / "every_block");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -327,7 +328,7 @@ TEST_F(RunCommand, DgcnnBlockStrideOverlapsBlocks) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_GT(blocks(dir_ / "overlap"), blocks(dir_ / "plain"));
   const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "overlap" / "manifest.json"));
-  EXPECT_DOUBLE_EQ(manifest.at("settings").at("block_stride").get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(manifest.at("config").at("classifier").at("dgcnn").at("stride").get<double>(), 0.5);
   // Keep the cloud in a variable: a range-for over a temporary's span would
   // read freed memory (ASan caught exactly that here once).
   const PointBuffer classified = read_point_cloud(dir_ / "overlap" / "semantic_points.ply");
@@ -353,14 +354,14 @@ TEST_F(RunCommand, TheRuleSwitchesAreRecordedAndCounted) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_dgcnn(" --no-ramp-veto --no-wall-bands --no-ramp-sides --no-wall-feet", dir_ / "plain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
-  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_veto").get<bool>());
-  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("ramp_sides").get<bool>());
-  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("ramp_sides").get<bool>());
-  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("wall_bands").get<bool>());
-  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("wall_bands").get<bool>());
-  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("settings").at("wall_feet").get<bool>());
-  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("settings").at("wall_feet").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("config").at("classifier").at("dgcnn").at("ramp_veto").at("enabled").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("config").at("classifier").at("dgcnn").at("ramp_veto").at("enabled").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("config").at("classifier").at("ramp_sides").at("enabled").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("config").at("classifier").at("ramp_sides").at("enabled").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("config").at("classifier").at("wall_bands").at("enabled").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("config").at("classifier").at("wall_bands").at("enabled").get<bool>());
+  EXPECT_TRUE(json_of(dir_ / "veto" / "manifest.json").at("config").at("classifier").at("wall_feet").at("enabled").get<bool>());
+  EXPECT_FALSE(json_of(dir_ / "plain" / "manifest.json").at("config").at("classifier").at("wall_feet").at("enabled").get<bool>());
   for (const char* run : {"veto", "plain"}) {
     const auto classify = json_of(dir_ / run / "profile.json").at("stages").at("classify");
     EXPECT_EQ(classify.at("ramp_vetoed").get<double>(), 0.0) << run;
@@ -394,8 +395,8 @@ TEST_F(RunCommand, MapBoundsLimitTheSavedMap) {
   const auto profile = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "profile.json"));
   EXPECT_GT(profile.at("stages").at("metric").at("blocks_dropped").get<double>(), 0.0);
   const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "manifest.json"));
-  EXPECT_EQ(manifest.at("settings").at("max_blocks").get<std::size_t>(), budget);
-  EXPECT_DOUBLE_EQ(manifest.at("settings").at("keep_radius").get<double>(), 50.0);
+  EXPECT_EQ(manifest.at("config").at("bounds").at("max_blocks").get<std::size_t>(), budget);
+  EXPECT_DOUBLE_EQ(manifest.at("config").at("bounds").at("keep_radius").get<double>(), 50.0);
 
   r = run(" --keep-radius -2", dir_ / "negative");
   EXPECT_NE(r.exit_code, 0);

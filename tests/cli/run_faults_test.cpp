@@ -145,7 +145,7 @@ TEST_F(RunFaults, AFrameOverTheInputLimitsIsSkippedNamingTheLimit) {
 TEST_F(RunFaults, TheMapBlockBudgetDefaultsToHalfTheMemory) {
   ASSERT_EQ(run(sequence(kGoodFrame)).exit_code, 0);
   const auto manifest = nlohmann::json::parse(test::read_all(out() / "manifest.json"));
-  const auto budget = manifest.at("settings").at("max_blocks").get<std::size_t>();
+  const auto budget = manifest.at("config").at("bounds").at("max_blocks").get<std::size_t>();
   const std::size_t memory = static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGE_SIZE);
   EXPECT_GT(budget, 0u);
   EXPECT_NEAR(static_cast<double>(budget) * (512 * 14 + 64), memory / 2.0, memory * 0.01);

@@ -43,7 +43,7 @@ class ShippedData : public ::testing::Test {
   }
   fs::path model_used(const std::string& out) {
     const auto manifest = nlohmann::json::parse(test::read_all(dir_ / out / "manifest.json"));
-    return manifest.at("settings").at("model").get<std::string>();
+    return manifest.at("config").at("classifier").at("model").get<std::string>();
   }
   // A copy of the built binary in DIR/bin/, as an install would place it.
   fs::path copied_binary() {

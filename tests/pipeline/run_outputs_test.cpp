@@ -64,7 +64,7 @@ TEST(WriteRun, WritesEveryOutputAndTheManifestLast) {
   EXPECT_EQ(manifest.at("scans"), 5);
   EXPECT_EQ(manifest.at("layout"), "cloud");
   EXPECT_EQ(manifest.at("arena_sha256"), arena.sha256);
-  EXPECT_FALSE(manifest.contains("settings"));  // none given
+  EXPECT_EQ(manifest.at("version"), 2);
   EXPECT_EQ(manifest.at("config"), nlohmann::json::parse(config_to_json(mapper.config()).dump()));
   ASSERT_EQ(manifest.at("outputs").size(), run_output_names().size());
   for (std::size_t i = 0; i < run_output_names().size(); ++i) {

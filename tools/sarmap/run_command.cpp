@@ -47,44 +47,14 @@ void require_finite_non_negative(double value, const char* flag) {
   }
 }
 
-// manifest.json's "settings": what the run was asked to do.
-nlohmann::ordered_json run_settings(const RunOptions& o, const pipeline::Mapper& mapper) {
-  const pipeline::MapperConfig& config = mapper.config();
-  nlohmann::ordered_json settings;
-  settings["voxel"] = o.voxel;
-  settings["classifier"] = o.classifier;
-  if (o.classifier == "dgcnn") {
-    settings["model"] = fs::absolute(config.classifier.model).string();
-    settings["min_block_points"] = o.min_block_points;
-    settings["block_stride"] = o.block_stride;
-    settings["classify_per_scan"] = o.classify_per_scan;
-    settings["ramp_veto"] = o.ramp_veto;
-    settings["wall_bands"] = o.wall_bands;
-    settings["ramp_sides"] = o.ramp_sides;
-    settings["wall_feet"] = o.wall_feet;
-  }
-  settings.update(nlohmann::ordered_json{
-      {"threads", o.threads},
-      {"overlap", o.overlap},
-      {"max_range", mapper.max_range()},
-      {"max_point_distance", o.max_point_distance},
-      {"keep_radius", o.keep_radius},
-      {"max_blocks", o.max_blocks},
-      {"strict", o.strict},
-      {"class_fusion",
-       mapper.metric_map().settings().fusion.fusion == metric::ClassFusion::Bayesian ? "bayesian" : "histogram"}});
-  return settings;
-}
-
-// What a checkpoint must match to be continued: the settings and the whole
-// config (the thread count and stage overlap aside: the maps do not depend on them), the input's
-// layout, frame count and defining file, and the model's bytes.
+// What a checkpoint must match to be continued: the whole config and the
+// range the run uses (not the thread count or stage overlap: the maps do not
+// depend on them), the input's layout, frame count and defining file, and
+// the model's bytes.
 std::string run_fingerprint(const RunOptions& o, const pipeline::Mapper& mapper, const ScanSource& source,
                             const nlohmann::ordered_json& input) {
   nlohmann::ordered_json what;
-  what["settings"] = run_settings(o, mapper);
-  what["settings"].erase("threads");
-  what["settings"].erase("overlap");
+  what["max_range"] = mapper.max_range();
   what["config"] = pipeline::config_to_json(mapper.config());
   what["input_sha256"] = input["sha256"];
   what["layout"] = source.layout();
@@ -257,7 +227,6 @@ RunSummary run_pipeline(const RunOptions& o) {
     record.arena_sha256 = source->arena_sha256();
     record.scans = scans;
     record.scans_skipped = skipped.count();
-    record.settings = run_settings(o, mapper);
     record.voxel_cubes = o.voxel_cubes;
     pipeline::write_run(mapper, into, record);
   };
