@@ -193,3 +193,16 @@ def test_files_that_cannot_be_read_are_os_errors(tmp_path):
         sarmap.write_cloud(tmp_path / "cloud.xyz", np.zeros((1, 3), np.float32))
     with pytest.raises(TypeError, match="^path: "):
         sarmap.read_cloud(3)
+
+
+def test_the_shipped_model_is_found_as_the_binary_finds_it(monkeypatch, tmp_path):
+    assert sarmap.Mapper().config["classifier"]["model"] == sarmap.shipped_model()
+    # SARMAP_DATA_DIR, when set, is the only place looked.
+    monkeypatch.setenv("SARMAP_DATA_DIR", str(tmp_path))
+    with pytest.raises(FileNotFoundError, match=f"{tmp_path}/models/ramps-dgcnn.safetensors, from SARMAP_DATA_DIR"):
+        sarmap.Mapper()
+    (tmp_path / "models").mkdir()
+    (tmp_path / "models" / "ramps-dgcnn.safetensors").write_bytes(b"not a model")
+    assert sarmap.shipped_model() == str(tmp_path / "models" / "ramps-dgcnn.safetensors")
+    with pytest.raises(ValueError, match="ramps-dgcnn.safetensors"):
+        sarmap.Mapper()
