@@ -1,7 +1,5 @@
 #include "python/src/array_arguments.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "engine/core/classes.hpp"
@@ -37,6 +35,11 @@ RealArray real_array(const py::handle& value, const char* name) {
   return result;
 }
 
+[[noreturn]] void bad_class_id(const char* name, std::size_t point, unsigned id) {
+  value_error(name, "point " + std::to_string(point) + " has class " + std::to_string(id) +
+                        ", not a class id (0.." + std::to_string(kClassCount - 1) + ")");
+}
+
 }  // namespace
 
 std::string describe(const py::handle& value) {
@@ -68,10 +71,7 @@ py::array_t<float> float32_points(const py::handle& value, const char* name) {
 
 void check_class_ids(std::span<const std::uint8_t> ids, const char* name) {
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    if (ids[i] >= kClassCount) {
-      value_error(name, "point " + std::to_string(i) + " has class " + std::to_string(ids[i]) +
-                            ", not a class id (0.." + std::to_string(kClassCount - 1) + ")");
-    }
+    if (ids[i] >= kClassCount) bad_class_id(name, i, ids[i]);
   }
 }
 
@@ -85,12 +85,9 @@ py::array_t<std::uint8_t> class_ids(const py::handle& value, const char* name, s
     value_error(name,
                 "expected shape (" + std::to_string(count) + ",) to match the points, got " + shape_text(a));
   }
-  const auto ids = a.unchecked<1>();
+  const auto ids = a.unchecked<1>();  // any strides
   for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
-    if (ids(i) >= kClassCount) {
-      value_error(name, "point " + std::to_string(i) + " has class " + std::to_string(ids(i)) +
-                            ", not a class id (0.." + std::to_string(kClassCount - 1) + ")");
-    }
+    if (ids(i) >= kClassCount) bad_class_id(name, static_cast<std::size_t>(i), ids(i));
   }
   return a;
 }

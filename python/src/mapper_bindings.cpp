@@ -130,8 +130,9 @@ use segment_max_range_lidar.)doc")
           "integrate",
           [](PyMapper& self, const py::object& points, const py::object& pose, const py::object& labels,
              const py::object& frame, const py::object& origin) {
-            if (!py::isinstance<py::str>(frame))
+            if (!py::isinstance<py::str>(frame)) {
               type_error("frame", "expected \"sensor\" or \"world\", got a " + describe(frame));
+            }
             const std::string where = frame.cast<std::string>();
             if (where != "sensor" && where != "world") {
               value_error("frame", "expected \"sensor\" or \"world\", got \"" + where + "\"");
