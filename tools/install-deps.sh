@@ -27,13 +27,17 @@ packages=(
   # the browser viewer (`sarmap view`): Node.js runs npm and esbuild (web/),
   # and its test drives Debian's Chromium (tests/viewer/)
   nodejs chromium
+  # the Python module (python/, docs/python.md): pybind11 builds it for
+  # Debian's python3 (python3-dev's headers); numpy is its array type, and
+  # pytest runs its suite (tests/python/)
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
-# Optional (--python): Debian's PyTorch and numpy with OpenBLAS, needed only by
+# Optional (--python): Debian's PyTorch with OpenBLAS, needed only by
 # tools/python/dgcnn_reference.py, export_safetensors.py and the PyTorch peer
 # benchmark (bench/peers); the build, the tests and CI do not need them.
 if [[ "${1:-}" == "--python" ]]; then
-  packages+=(python3-torch python3-numpy libopenblas0-pthread)
+  packages+=(python3-torch libopenblas0-pthread)
   shift
 fi
 

@@ -205,9 +205,14 @@ Json trajectory_layer(const fs::path& manifest_file, std::vector<std::string>& n
   const Json& input = json_fields::member(manifest, "input", manifest_file, "manifest");
   const Json& path = json_fields::member(input, "path", manifest_file, "input");
   const Json& layout = json_fields::member(manifest, "layout", manifest_file, "manifest");
-  if (!path.is_string() || !layout.is_string()) {
-    json_fields::fail(manifest_file, "manifest", "'input.path' and 'layout' must be strings");
+  if (!layout.is_string()) json_fields::fail(manifest_file, "manifest", "'layout' must be a string");
+  if (layout.get<std::string>() == "arrays") {
+    // Scans handed over as arrays (the Python module): no file holds the poses.
+    notes.push_back(
+        "the run's scans were given as arrays, not read from a sequence folder: no trajectory is drawn");
+    return nullptr;
   }
+  if (!path.is_string()) json_fields::fail(manifest_file, "manifest", "'input.path' must be a string");
   if (layout.get<std::string>() != "sarmap") {
     if (layout.get<std::string>() != "cloud") {
       notes.push_back("the trajectory is drawn for sarmap sequence folders only, not for a " +
