@@ -11,7 +11,7 @@ import sarmap
 from conftest import cli_path, run_cli
 
 # The outputs that depend on the maps alone (the manifest, profile and summary
-# also record paths, times and the CLI's own settings).
+# also record paths and times).
 MAP_OUTPUTS = ["map.sarmap", "voxels.ply", "segments.json", "graph.json", "grid.pgm"]
 
 
