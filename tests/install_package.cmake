@@ -72,7 +72,7 @@ endfunction()
 # The model a run's manifest names.
 function(model_of run_dir var)
   file(READ ${run_dir}/manifest.json manifest)
-  string(JSON model GET "${manifest}" settings model)
+  string(JSON model GET "${manifest}" config classifier model)
   set(${var} ${model} PARENT_SCOPE)
 endfunction()
 
