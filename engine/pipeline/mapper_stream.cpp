@@ -6,6 +6,7 @@
 // halves of consecutive scans share no state, and each half still sees the
 // scans in input order: the maps come out as in order.
 #include <chrono>
+#include <mutex>
 #include <vector>
 
 #include <tbb/parallel_pipeline.h>
@@ -76,30 +77,45 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
   constexpr std::size_t kInFlight = kClassifierForgetLag;
   std::vector<StreamedScan> slots(kInFlight);
   std::size_t next_frame = first_frame;
+  // oneTBB runs one filter's calls, and one item's filters, in order, but
+  // possibly on different threads, handing over through its own atomics:
+  // inside Debian's libtbb, not built for ThreadSanitizer, and not reported
+  // through ITT (tests/tsan_itt_collector.cpp). A mutex touched as each call
+  // starts and ends shows ThreadSanitizer that order (a few uncontended
+  // locks per scan).
+  std::mutex handoff;
+  const auto hand_over = [&] { const std::lock_guard<std::mutex> order(handoff); };
   const auto input = [&](tbb::flow_control& control) -> StreamedScan* {
+    hand_over();
     StreamedScan& item = slots[(next_frame - first_frame) % kInFlight];
     if (!read_next(read, next_frame, item)) {
       control.stop();
+      hand_over();
       return nullptr;
     }
     ++next_frame;
+    hand_over();
     return &item;
   };
   // Each half runs isolated: a thread waiting inside one half's parallel
   // loop takes no task of the other half, whose per-thread scratch it could
   // otherwise enter twice.
   const auto classify = [&](StreamedScan* item) -> StreamedScan* {
-    if (item->read_failed) return item;
-    tbb::this_task_arena::isolate([&] {
-      try {
-        item->classify_number = classify_half(item->scan, item->profile, item->voxel_classes);
-      } catch (const Error& e) {
-        item->error = scan_error(item->scan, e);
-      }
-    });
+    hand_over();
+    if (!item->read_failed) {
+      tbb::this_task_arena::isolate([&] {
+        try {
+          item->classify_number = classify_half(item->scan, item->profile, item->voxel_classes);
+        } catch (const Error& e) {
+          item->error = scan_error(item->scan, e);
+        }
+      });
+    }
+    hand_over();
     return item;
   };
   const auto maps = [&](StreamedScan* item) {
+    hand_over();
     if (!item->read_failed && !item->error) {
       tbb::this_task_arena::isolate([&] {
         try {
@@ -113,12 +129,14 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
       });
     }
     done(*item);
+    hand_over();
   };
   tbb::parallel_pipeline(kInFlight,
                          tbb::make_filter<void, StreamedScan*>(tbb::filter_mode::serial_in_order, input) &
                              tbb::make_filter<StreamedScan*, StreamedScan*>(tbb::filter_mode::serial_in_order,
                                                                             classify) &
                              tbb::make_filter<StreamedScan*, void>(tbb::filter_mode::serial_in_order, maps));
+  hand_over();  // and the end of every call before this thread reads the maps or frees the slots
 }
 
 }  // namespace sarmap::pipeline
