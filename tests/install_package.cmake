@@ -49,13 +49,18 @@ endforeach()
 
 # Runs PREFIX/bin/sarmap ARGS... from the scratch folder, with SARMAP_DATA_DIR
 # unset unless ENV_DATA_DIR is given.
+# `cmake -E env` arguments: SARMAP_DATA_DIR set to DIR, or unset when DIR is empty.
+function(data_dir_env dir var)
+  if(dir)
+    set(${var} SARMAP_DATA_DIR=${dir} PARENT_SCOPE)
+  else()
+    set(${var} --unset=SARMAP_DATA_DIR PARENT_SCOPE)
+  endif()
+endfunction()
+
 function(run_installed)
   cmake_parse_arguments(ARG "" "ENV_DATA_DIR" "" ${ARGN})
-  if(ARG_ENV_DATA_DIR)
-    set(env SARMAP_DATA_DIR=${ARG_ENV_DATA_DIR})
-  else()
-    set(env --unset=SARMAP_DATA_DIR)
-  endif()
+  data_dir_env("${ARG_ENV_DATA_DIR}" env)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env} ${prefix}/bin/sarmap ${ARG_UNPARSED_ARGUMENTS}
     WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   set(rc ${rc} PARENT_SCOPE)
@@ -113,11 +118,7 @@ endif()
 # shipped model it finds (SARMAP_DATA_DIR unset unless ENV_DATA_DIR is given).
 function(run_installed_python script)
   cmake_parse_arguments(ARG "" "ENV_DATA_DIR" "" ${ARGN})
-  if(ARG_ENV_DATA_DIR)
-    set(env SARMAP_DATA_DIR=${ARG_ENV_DATA_DIR})
-  else()
-    set(env --unset=SARMAP_DATA_DIR)
-  endif()
+  data_dir_env("${ARG_ENV_DATA_DIR}" env)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env} PYTHONPATH=${prefix}/${PYTHON_INSTALL_DIR}
       PYTHONDONTWRITEBYTECODE=1 ${PYTHON} -c "${script}"
     WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
