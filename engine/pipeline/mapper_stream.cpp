@@ -85,6 +85,12 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
   // locks per scan).
   std::mutex handoff;
   const auto hand_over = [&] { const std::lock_guard<std::mutex> order(handoff); };
+  // Last of all, also when a filter threw (oneTBB waits for every call
+  // before it rethrows): before this thread reads the maps or frees the slots.
+  struct HandOverAtExit {
+    std::mutex& m;
+    ~HandOverAtExit() { const std::lock_guard<std::mutex> order(m); }
+  } at_exit{handoff};
   const auto input = [&](tbb::flow_control& control) -> StreamedScan* {
     hand_over();
     StreamedScan& item = slots[(next_frame - first_frame) % kInFlight];
@@ -136,7 +142,6 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
                              tbb::make_filter<StreamedScan*, StreamedScan*>(tbb::filter_mode::serial_in_order,
                                                                             classify) &
                              tbb::make_filter<StreamedScan*, void>(tbb::filter_mode::serial_in_order, maps));
-  hand_over();  // and the end of every call before this thread reads the maps or frees the slots
 }
 
 }  // namespace sarmap::pipeline
