@@ -4,6 +4,11 @@
 // one frame at a time and as a sequence (integrate_sequence), and both at
 // 320 x 240 and 640 x 480. Each iteration maps all 160 frames into a
 // fresh map; each case runs three times and reports the fastest too.
+// Memory, after the last frame: OctoMap's memoryUsage(); sarmap's map as it
+// counts its own allocations (MetricMap::memory_bytes: block storage, hash
+// table, per-block overhead), and apart from it the integrator's scratch
+// (RayIntegrator::scratch_bytes), which a map does not keep. PERF.md states
+// what each counts.
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
 
@@ -85,7 +90,7 @@ void BM_Sarmap(benchmark::State& state) {
   const auto& scans = sarmap::bench::default_arena_sequence(width);
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   sarmap::metric::IntegrationStats stats;
-  std::size_t known = 0, bytes = 0;
+  std::size_t known = 0, bytes = 0, scratch = 0;
   sarmap::metric::RayIntegrator integrator;
   for (auto _ : state) {
     sarmap::metric::MetricMap map(sarmap::metric::settings_at_resolution(res));
@@ -98,6 +103,7 @@ void BM_Sarmap(benchmark::State& state) {
     state.PauseTiming();
     known = map.counts().known;
     bytes = map.memory_bytes();
+    scratch = integrator.scratch_bytes();
     state.ResumeTiming();
   }
   using C = benchmark::Counter;
@@ -109,6 +115,7 @@ void BM_Sarmap(benchmark::State& state) {
   state.counters["known_voxels"] = static_cast<double>(known);
   state.counters["bytes_per_known_voxel"] = static_cast<double>(bytes) / static_cast<double>(known);
   state.counters["memory_MB"] = static_cast<double>(bytes) / 1e6;
+  state.counters["scratch_MB"] = static_cast<double>(scratch) / 1e6;
 }
 
 // Each case runs three times and reports the fastest as "_min" besides the

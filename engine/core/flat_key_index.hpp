@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/core/capacity_bytes.hpp"
+
 namespace sarmap {
 
 // Finalizer of splitmix64: packed keys differ in few low bits, so they need
@@ -30,6 +32,8 @@ class FlatKeyIndex {
   explicit FlatKeyIndex(std::size_t initial_capacity = 1024) { rehash(round_up(initial_capacity * 2)); }
 
   std::size_t size() const { return keys_.size(); }
+  // Bytes held: the slots and the key list, by capacity.
+  std::size_t memory_bytes() const { return capacity_bytes(slots_) + capacity_bytes(keys_); }
   // Keys in insertion order; key i has index i.
   const std::vector<std::uint64_t>& keys() const { return keys_; }
 

@@ -52,7 +52,14 @@ class BlockMap {
   }
   bool erase(const BlockKey& key) { return blocks_.erase(pack(key)) > 0; }
   void clear() { blocks_.clear(); }
-  void reserve(std::size_t blocks) { blocks_.reserve(blocks); }
+  // Bytes the map allocates: every block, its hash node (key, the block's
+  // pointer, the next link and the cached hash code, as libstdc++ lays a
+  // node out) and the bucket array.
+  std::size_t memory_bytes() const {
+    constexpr std::size_t node =
+        sizeof(void*) + sizeof(std::uint64_t) + sizeof(std::unique_ptr<Block>) + sizeof(std::size_t);
+    return sizeof(*this) + blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*);
+  }
 
   // Payload of a voxel, or nullptr when its block does not exist.
   const Payload* voxel(const VoxelKey& key) const {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/classes.hpp"
 
 namespace sarmap::metric {
@@ -40,6 +41,15 @@ void LocalEndGroups::clear() {
   keys_.clear();
   observations_.clear();
   box_ = {};
+}
+
+std::size_t LocalEndGroups::memory_bytes() const {
+  return capacity_bytes(cache_) + capacity_bytes(keys_) + capacity_bytes(observations_);
+}
+
+std::size_t EndVoxelGroups::memory_bytes() const {
+  return capacity_bytes(keys_) + capacity_bytes(observations_) + hashed_.memory_bytes() +
+         capacity_bytes(dense_);
 }
 
 void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells) {

@@ -80,6 +80,8 @@ class LocalEndGroups {
   const std::vector<VoxelKey>& keys() const { return keys_; }
   const std::vector<ClassObservation>& observations() const { return observations_; }
   const VoxelBox& box() const { return box_; }
+  // Bytes held (the cache and the groups, by capacity).
+  std::size_t memory_bytes() const;
 
  private:
   // Packed keys use 63 bits (pack()), so the all-ones word marks an empty slot.
@@ -142,6 +144,8 @@ class EndVoxelGroups {
   const std::vector<ClassObservation>& observations() const { return observations_; }
   // Whether the last merge() used the dense table (for tests).
   bool used_dense_table() const { return used_dense_; }
+  // Bytes held (groups, hash table and dense table, by capacity).
+  std::size_t memory_bytes() const;
 
  private:
   std::vector<VoxelKey> keys_;

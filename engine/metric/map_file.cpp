@@ -197,7 +197,8 @@ MetricMap load_map(const std::filesystem::path& path) {
     }
   }();
   const OccupancyModel& occ = map.occupancy();
-  map.blocks().reserve(count);
+  // Blocks are added one by one, as a run adds them, so the loaded map
+  // allocates (and reports, memory_bytes) what a map that only grew does.
   const std::int32_t max_block = static_cast<std::int32_t>((kMaxCoordinate / s.resolution) / kBlockEdge) + 1;
   for (std::uint64_t b = 0; b < count; ++b) {
     const std::size_t at = d.offset();

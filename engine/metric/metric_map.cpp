@@ -90,10 +90,4 @@ MapCounts MetricMap::counts() const {
   return c;
 }
 
-std::size_t MetricMap::memory_bytes() const {
-  // Each block: the block itself, its hash node (key, pointer, next link) and a bucket pointer.
-  const std::size_t per_block = sizeof(Blocks::Block) + 3 * sizeof(void*) + sizeof(std::uint64_t);
-  return sizeof(*this) + blocks_.block_count() * per_block;
-}
-
 }  // namespace sarmap::metric

@@ -71,8 +71,10 @@ class MetricMap {
 
   // Counts every voxel; costs a pass over all blocks.
   MapCounts counts() const;
-  // Bytes the map holds: blocks and the hash table's nodes and buckets.
-  std::size_t memory_bytes() const;
+  // Bytes the map allocates, counted by its block map (block storage, hash
+  // table, per-block overhead) plus the map object itself; not the ray
+  // integrator's scratch (RayIntegrator::scratch_bytes).
+  std::size_t memory_bytes() const { return sizeof(*this) - sizeof(Blocks) + blocks_.memory_bytes(); }
 
   // Every block, for a checkpoint (engine/core/state_stream.hpp).
   void save_state(StateWriter& out) const;

@@ -32,8 +32,10 @@ void MetricMap::load_state(StateReader& in) {
   using Voxels = decltype(Blocks::Block::voxels);
   const std::size_t count = in.get_count(sizeof(BlockKey) + sizeof(Voxels));
   const std::int64_t max_block = static_cast<std::int64_t>((kMaxCoordinate / resolution) / kBlockEdge) + 1;
+  // Added one by one as the run added them, without a reserve: a resumed
+  // run's map then allocates (and reports, memory_bytes) what the
+  // uninterrupted run's does, for a map that only grew.
   Blocks loaded;
-  loaded.reserve(count);
   for (std::size_t b = 0; b < count; ++b) {
     const auto key = in.get<BlockKey>();
     const auto beyond = [max_block](std::int32_t v) { return std::abs(std::int64_t{v}) > max_block; };

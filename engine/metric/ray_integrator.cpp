@@ -64,6 +64,13 @@ RayIntegrator::~RayIntegrator() = default;
 RayIntegrator::RayIntegrator(RayIntegrator&&) noexcept = default;
 RayIntegrator& RayIntegrator::operator=(RayIntegrator&&) noexcept = default;
 
+std::size_t RayIntegrator::scratch_bytes() const {
+  if (!scratch_) return 0;  // moved from
+  std::size_t bytes = sizeof(Scratch) + scratch_->update.memory_bytes();
+  for (const ScanRays& r : scratch_->rays) bytes += r.memory_bytes();
+  return bytes;
+}
+
 IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& points,
                                           const Eigen::Vector3d& origin) {
   IntegrationStats stats;

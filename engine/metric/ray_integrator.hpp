@@ -28,6 +28,12 @@ class RayIntegrator {
 
   const IntegratorSettings& settings() const { return settings_; }
 
+  // Bytes of scratch kept between scans (the three scans' rays in flight,
+  // every thread's masks, the update's tables), apart from the map's own
+  // (MetricMap::memory_bytes). Grows to the largest scan seen; not
+  // thread-safe with integrate().
+  std::size_t scratch_bytes() const;
+
   // Integrates the scan's points (world frame) seen from origin. Each voxel is
   // updated at most once; a voxel hit in this scan is not also marked free.
   // Throws sarmap::Error before touching the map for an origin beyond the map

@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "kernels/simd_level.hpp"
@@ -28,6 +29,10 @@ void ThreadMisses::clear() {
   miss_words = nullptr;
   visits = 0;
   dense_in_use = false;
+}
+
+std::size_t ThreadMisses::memory_bytes() const {
+  return blocks.memory_bytes() + capacity_bytes(miss) + capacity_bytes(dense);
 }
 
 std::uint32_t ThreadMisses::block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
@@ -274,6 +279,15 @@ void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats)
                       });
   }
   for (const ThreadMisses& t : threads_) stats.voxel_visits += t.visits;
+}
+
+std::size_t ScanRays::memory_bytes() const {
+  std::size_t bytes = capacity_bytes(chunks_) + capacity_bytes(local_groups_) + ends_.memory_bytes() +
+                      capacity_bytes(end_is_hit_) + capacity_bytes(rays_);
+  for (const PointChunk& c : chunks_) bytes += capacity_bytes(c.rays);
+  for (const LocalEndGroups& g : local_groups_) bytes += g.memory_bytes();
+  for (const ThreadMisses& t : threads_) bytes += sizeof(ThreadMisses) + t.memory_bytes();
+  return bytes;
 }
 
 }  // namespace sarmap::metric

@@ -43,6 +43,8 @@ struct ThreadMisses {
   bool dense_in_use = false;
 
   void clear();
+  // Bytes held (key index, masks and dense grid, by capacity).
+  std::size_t memory_bytes() const;
   // kernels::BlockMaskSink::block_index: the mask of a block, created empty.
   static std::uint32_t block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz);
 };
@@ -84,6 +86,10 @@ class ScanRays {
   // calls dense_grids_cleared().
   tbb::enumerable_thread_specific<ThreadMisses>& threads() { return threads_; }
   void dense_grids_cleared() { dense_dirty_ = false; }
+
+  // Bytes held between scans: every table and buffer of both passes and
+  // every thread's masks, by capacity. Not thread-safe with compute().
+  std::size_t memory_bytes() const;
 
  private:
   // Pass 1's work on one fixed stretch of points besides its end-voxel

@@ -6,12 +6,21 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/capacity_bytes.hpp"
+
 namespace sarmap::metric {
 
 std::uint32_t ScanUpdate::merged_index(std::uint64_t packed_block) {
   const std::uint32_t b = merged_.find_or_insert(packed_block);
   if (b == merged_miss_.size()) merged_miss_.emplace_back();
   return b;
+}
+
+std::size_t ScanUpdate::memory_bytes() const {
+  return merged_.memory_bytes() + capacity_bytes(merged_miss_) + capacity_bytes(merged_hit_) +
+         capacity_bytes(dense_grids_) + capacity_bytes(merged_of_grid_) + capacity_bytes(order_) +
+         capacity_bytes(block_of_index_) + capacity_bytes(hit_list_) + capacity_bytes(hit_block_) +
+         capacity_bytes(hit_cursor_) + capacity_bytes(hit_start_);
 }
 
 void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) {

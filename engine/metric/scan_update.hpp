@@ -23,6 +23,8 @@ class ScanUpdate {
   // zero between scans). Parallel over the calling thread's oneTBB arena;
   // the map does not depend on its thread count.
   void apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats);
+  // Bytes held between scans (every table and list, by capacity).
+  std::size_t memory_bytes() const;
 
  private:
   // Index of a block among the scan's merged blocks (created empty).

@@ -1,0 +1,91 @@
+// Memory as the map and the integrator count it themselves: every block and
+// the table that finds them in the map's figure, the integrator's scratch
+// apart from it, and a loaded map reporting what the map it was saved from did.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "engine/core/state_stream.hpp"
+#include "engine/metric/map_file.hpp"
+#include "engine/metric/ray_integrator.hpp"
+#include "tests/metric/synthetic_room.hpp"
+
+namespace sarmap::metric {
+namespace {
+
+MetricMap room_map(RayIntegrator& integrator, int frames) {
+  MetricMap map(settings_at_resolution(0.05));
+  testing::SyntheticRoom room;
+  for (int f = 0; f < frames; ++f) {
+    const auto scan = room.frame(f, frames, 80, 60);
+    integrator.integrate(map, scan.points, scan.origin);
+  }
+  return map;
+}
+
+TEST(MapMemory, CountsEveryBlockAndTheTableThatFindsThem) {
+  using Blocks = MetricMap::Blocks;
+  Blocks blocks;
+  const std::size_t empty = blocks.memory_bytes();
+  std::size_t before = empty;
+  // 4096 blocks along a plane, so no storage is left half used at the end.
+  for (int i = 0; i < 4096; ++i) {
+    blocks.find_or_create(BlockKey{i % 64 - 32, i / 64 - 32, 5});
+    const std::size_t now = blocks.memory_bytes();
+    ASSERT_GE(now, before) << i;
+    before = now;
+  }
+  const std::size_t voxels = 4096 * sizeof(Blocks::Block);
+  const std::size_t bytes = blocks.memory_bytes();
+  EXPECT_GT(bytes, voxels + empty);  // the table costs something per block
+  EXPECT_LT(bytes - voxels, voxels / 100) << "more than 1 % of the blocks' own bytes in overhead";
+}
+
+TEST(MapMemory, TheIntegratorsScratchIsCountedApartFromTheMap) {
+  RayIntegrator integrator;
+  const std::size_t idle = integrator.scratch_bytes();
+  EXPECT_GT(idle, 0u);
+  testing::SyntheticRoom room;
+  const auto scan = room.frame(0, 4, 160, 120);
+  MetricMap map(settings_at_resolution(0.05));
+  const IntegrationStats stats = integrator.integrate(map, scan.points, scan.origin);
+  const std::size_t after_one = integrator.scratch_bytes();
+  // It keeps at least every end voxel's key and one ray per end voxel.
+  EXPECT_GE(after_one - idle, stats.end_voxels * (sizeof(VoxelKey) + 3 * sizeof(double)));
+  // Kept and reused: the same scan again needs nothing more.
+  MetricMap second(settings_at_resolution(0.05));
+  integrator.integrate(second, scan.points, scan.origin);
+  EXPECT_EQ(integrator.scratch_bytes(), after_one);
+  // The map's figure does not depend on the scratch of the integrator that built it.
+  RayIntegrator fresh;
+  MetricMap third(settings_at_resolution(0.05));
+  fresh.integrate(third, scan.points, scan.origin);
+  EXPECT_EQ(third.memory_bytes(), map.memory_bytes());
+  EXPECT_GT(map.memory_bytes(), map.blocks().block_count() * sizeof(MetricMap::Blocks::Block));
+  EXPECT_EQ(RayIntegrator(std::move(fresh)).scratch_bytes(), after_one);
+  EXPECT_EQ(fresh.scratch_bytes(), 0u);  // NOLINT(bugprone-use-after-move): moved from, holds nothing
+}
+
+TEST(MapMemory, ALoadedMapReportsWhatTheSavedMapDid) {
+  RayIntegrator integrator;
+  const MetricMap map = room_map(integrator, 6);
+  ASSERT_GT(map.blocks().block_count(), 100u);
+
+  StateWriter out;
+  map.save_state(out);
+  MetricMap resumed(map.settings());
+  StateReader in(out.bytes(), "state.bin");
+  resumed.load_state(in);
+  EXPECT_EQ(resumed.memory_bytes(), map.memory_bytes());
+
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("sarmap_map_memory_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  save_map(map, dir / "m.sarmap");
+  EXPECT_EQ(load_map(dir / "m.sarmap").memory_bytes(), map.memory_bytes());
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sarmap::metric
