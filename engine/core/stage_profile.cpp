@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -16,9 +17,14 @@ StageProfile::ScopedTimer::~ScopedTimer() {
   profile_.add_time(stage_, std::chrono::duration<double>(elapsed).count());
 }
 
+namespace {
+constexpr double kNoLevel = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
+
 void StageProfile::begin_scan() {
   per_scan_.emplace_back(order_.size(), 0.0);
   latency_.push_back(0.0);
+  level_rows_.emplace_back(levels_.size(), kNoLevel);
 }
 
 void StageProfile::set_latency(double seconds) {
@@ -29,10 +35,15 @@ void StageProfile::set_latency(double seconds) {
 void StageProfile::append(const StageProfile& scans) {
   std::vector<std::size_t> index(scans.order_.size());
   for (std::size_t i = 0; i < scans.order_.size(); ++i) index[i] = stage_index(scans.order_[i]);
+  std::vector<std::size_t> level_index(scans.levels_.size());
+  for (std::size_t l = 0; l < scans.levels_.size(); ++l) {
+    level_index[l] = this->level_index(index[scans.levels_[l].stage], scans.levels_[l].name);
+  }
   for (std::size_t r = 0; r < scans.per_scan_.size(); ++r) {
     begin_scan();
     for (std::size_t i = 0; i < scans.per_scan_[r].size(); ++i) per_scan_.back()[index[i]] += scans.per_scan_[r][i];
     latency_.back() = scans.latency_[r];
+    for (std::size_t l = 0; l < scans.levels_.size(); ++l) level_rows_.back()[level_index[l]] = scans.level_rows_[r][l];
   }
   for (std::size_t i = 0; i < scans.order_.size(); ++i) {
     for (const auto& [name, value] : scans.counters_[i]) counters_[index[i]][name] += value;
@@ -62,10 +73,27 @@ void StageProfile::add_time(std::string_view stage, double seconds) {
   per_scan_.back()[i] += seconds;
 }
 
+std::size_t StageProfile::level_index(std::size_t stage, std::string_view level) {
+  std::size_t l = 0;
+  while (l < levels_.size() && !(levels_[l].stage == stage && levels_[l].name == level)) ++l;
+  if (l == levels_.size()) {
+    levels_.push_back({stage, std::string(level)});
+    for (auto& row : level_rows_) row.push_back(kNoLevel);
+  }
+  return l;
+}
+
+void StageProfile::set_level(std::string_view stage, std::string_view level, double value) {
+  const std::size_t l = level_index(stage_index(stage), level);
+  if (per_scan_.empty()) begin_scan();
+  level_rows_.back()[l] = value;
+}
+
 void StageProfile::skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open) {
   if (row_open && !per_scan_.empty()) {
     per_scan_.pop_back();
     latency_.pop_back();
+    level_rows_.pop_back();
   }
   ++skipped_count_;
   if (skipped_.size() < kMaxListedSkips) skipped_.push_back({index, std::string(source), std::string(error)});
@@ -123,6 +151,21 @@ double StageProfile::counter(std::string_view stage, std::string_view counter) c
   return c == counters.end() ? 0.0 : c->second;
 }
 
+StageProfile::LevelStats StageProfile::level(std::string_view stage, std::string_view level) const {
+  LevelStats s;
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    if (order_[levels_[l].stage] != stage || levels_[l].name != level) continue;
+    for (const auto& row : level_rows_) {
+      const double v = row[l];
+      if (std::isnan(v)) continue;
+      s.max = s.scans == 0 ? v : std::max(s.max, v);
+      s.last = v;
+      ++s.scans;
+    }
+  }
+  return s;
+}
+
 std::string StageProfile::table() const {
   std::ostringstream out;
   char line[160];
@@ -162,16 +205,26 @@ std::string StageProfile::json() const {
     st["p95_s"] = s.p95_s;
     st["max_s"] = s.max_s;
     for (const auto& [name, value] : counters_[i]) st[name] = value;
+    for (const Level& level : levels_) {
+      if (level.stage != i) continue;
+      const LevelStats l = this->level(order_[i], level.name);
+      st[level.name] = l.last;
+      st[level.name + "_max"] = l.max;
+    }
     stages[order_[i]] = st;
   }
   j["stages"] = stages;
   const StageStats l = latency();
   j["latency"] = {{"mean_s", l.mean_s}, {"p50_s", l.p50_s}, {"p95_s", l.p95_s}, {"max_s", l.max_s}};
   nlohmann::ordered_json per_scan = nlohmann::ordered_json::array();
-  for (std::size_t s = 0; s < per_scan_.size(); ++s) {
+  for (std::size_t scan = 0; scan < per_scan_.size(); ++scan) {
     nlohmann::ordered_json r;
-    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = per_scan_[s][i];
-    r["latency_s"] = row_latency(s);
+    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = per_scan_[scan][i];
+    r["latency_s"] = row_latency(scan);
+    for (std::size_t l = 0; l < levels_.size(); ++l) {
+      const double v = level_rows_[scan][l];
+      if (!std::isnan(v)) r[order_[levels_[l].stage] + "_" + levels_[l].name] = v;
+    }
     per_scan.push_back(r);
   }
   j["per_scan"] = per_scan;
@@ -198,6 +251,12 @@ void StageProfile::save_state(StateWriter& out) const {
       out.put(value);
     }
   }
+  out.put<std::uint64_t>(levels_.size());
+  for (const Level& level : levels_) {
+    out.put<std::uint64_t>(level.stage);
+    out.put_string(level.name);
+  }
+  for (const std::vector<double>& row : level_rows_) out.put_vector(row);
   out.put(wall_s_);
   out.put<std::uint64_t>(skipped_.size());
   for (const SkippedScan& s : skipped_) {
@@ -227,6 +286,17 @@ void StageProfile::load_state(StateReader& in) {
       stage[std::move(name)] = in.get<double>();
     }
   }
+  std::vector<Level> levels(in.get_count(16));
+  for (Level& level : levels) {
+    level.stage = static_cast<std::size_t>(in.get<std::uint64_t>());
+    if (level.stage >= order.size()) in.fail("a profile level names a stage the profile does not");
+    level.name = in.get_string();
+  }
+  std::vector<std::vector<double>> level_rows(per_scan.size());
+  for (std::vector<double>& row : level_rows) {
+    row = in.get_vector<double>();
+    if (row.size() != levels.size()) in.fail("a profile row of levels does not hold one value per level");
+  }
   const auto wall_s = in.get<double>();
   std::vector<SkippedScan> skipped(in.get_count(24));
   for (SkippedScan& s : skipped) {
@@ -239,6 +309,8 @@ void StageProfile::load_state(StateReader& in) {
   per_scan_ = std::move(per_scan);
   latency_ = std::move(latency);
   counters_ = std::move(counters);
+  levels_ = std::move(levels);
+  level_rows_ = std::move(level_rows);
   wall_s_ = wall_s;
   skipped_ = std::move(skipped);
   skipped_count_ = static_cast<std::size_t>(skipped_count);

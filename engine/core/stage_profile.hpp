@@ -1,9 +1,12 @@
-// Named stage timers (steady clock) kept per scan and in total, printable as a
-// table and as the profile.json that `sarmap run` writes:
+// Named stage timers (steady clock) kept per scan and in total, with counters
+// summed over scans and levels (sizes after a scan, such as the metric map's
+// bytes) kept per scan, printable as a table and as the profile.json that
+// `sarmap run` writes:
 //   {"version": 1, "units": "s", "scans": N, "wall_s": ..., "scans_per_second": ...,
-//    "stages": {"<name>": {"total_s", "mean_s", "p50_s", "p95_s", "max_s", <counters>}},
+//    "stages": {"<name>": {"total_s", "mean_s", "p50_s", "p95_s", "max_s", <counters>,
+//                          <level>, <level>_max}},
 //    "latency": {"mean_s", "p50_s", "p95_s", "max_s"},
-//    "per_scan": [{"<name>_s": ..., "latency_s": ...}, ...],
+//    "per_scan": [{"<name>_s": ..., "latency_s": ..., "<name>_<level>": ...}, ...],
 //    "skipped_scans": N, "skipped": [{"scan", "source", "error"}, ...]}
 #pragma once
 
@@ -50,11 +53,15 @@ class StageProfile {
   // consecutive scans overlapping, Mapper::integrate_stream). Rows without
   // one count their stage times' sum.
   void set_latency(double seconds);
-  // Appends `scans`' rows (with their latencies) and adds its counters: the
+  // Appends `scans`' rows (with their latencies and levels) and adds its counters: the
   // profile of scans timed apart, e.g. one scan in flight while another is.
   void append(const StageProfile& scans);
   // Adds to a named counter of a stage (points in, rays cast, ...), summed over scans.
   void add_count(std::string_view stage, std::string_view counter, double value);
+  // Sets a level of a stage for the current scan: a size after the scan (the
+  // metric map's bytes), not summed. A scan that does not set it leaves no
+  // value in its row.
+  void set_level(std::string_view stage, std::string_view level, double value);
   // Records a scan the run skipped (unreadable, or refused by a stage) and
   // drops its per-scan row when one is open for it; the first
   // kMaxListedSkips are listed with their errors, all are counted.
@@ -71,6 +78,11 @@ class StageProfile {
   // Per-scan latency (set_latency, or the row's sum of stage times).
   StageStats latency() const;
   double counter(std::string_view stage, std::string_view counter) const;
+  struct LevelStats {
+    double last = 0, max = 0;  // over the scans that set the level; 0 if none did
+    std::size_t scans = 0;
+  };
+  LevelStats level(std::string_view stage, std::string_view level) const;
 
   std::string table() const;
   std::string json() const;
@@ -83,12 +95,22 @@ class StageProfile {
 
  private:
   std::size_t stage_index(std::string_view stage);
+  // The index of a stage's level, added (with no value in any row) if new.
+  std::size_t level_index(std::size_t stage, std::string_view level);
   double row_latency(std::size_t scan) const;
 
   std::vector<std::string> order_;
   std::vector<std::vector<double>> per_scan_;  // [scan][stage] seconds
   std::vector<double> latency_;                // [scan] seconds, 0: the row's sum
   std::vector<std::map<std::string, double>> counters_;  // [stage]
+  // Levels by (stage index, name), in the order first set, and their values
+  // per scan, NaN where a scan did not set one.
+  struct Level {
+    std::size_t stage;
+    std::string name;
+  };
+  std::vector<Level> levels_;
+  std::vector<std::vector<double>> level_rows_;  // [scan][level], one row per per_scan_ row
   double wall_s_ = 0;
   struct SkippedScan {
     std::size_t index;

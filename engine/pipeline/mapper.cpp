@@ -128,6 +128,7 @@ std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vect
   // classification may already run while this one's rays go in.
   if (const DgcnnMapClassifier* on_map = classifier_->accumulated_map()) {
     voxel_classes = voxel_classes_from_point_map(*on_map, map_.resolution(), map_.inv_resolution());
+    profile.set_level("classify", "point_map_bytes", static_cast<double>(classifier_->memory_bytes()));
   }
   return number;
 }
@@ -157,6 +158,11 @@ void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& 
       profile.add_count("metric", "blocks_dropped", static_cast<double>(dropped));
     }
   }
+  // Memory after the scan, outside the stage's time: the map as it counts
+  // itself, and apart from it the integrator's scratch (docs/formats.md,
+  // profile.json). The classifier's point map is measured in its own half.
+  profile.set_level("metric", "map_bytes", static_cast<double>(map_.memory_bytes()));
+  profile.set_level("metric", "integrator_scratch_bytes", static_cast<double>(integrator_.scratch_bytes()));
   if (forgetting_due()) forget_dropped_regions(classify_number, profile);
   {
     const auto timer = profile.time("segment");

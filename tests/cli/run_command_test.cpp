@@ -124,17 +124,23 @@ TEST_F(RunCommand, WritesEveryOutput) {
   ASSERT_EQ(profile.at("per_scan").size(), 2u);
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
-  EXPECT_EQ(row,
-            (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s",
-                                      "latency_s"}));
+  EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s",
+                                           "latency_s", "metric_map_bytes", "metric_integrator_scratch_bytes"}));
   // A scan's latency covers at least its own stages.
   for (const auto& scan : profile.at("per_scan")) {
     double stages_s = 0;
     for (const auto& [name, value] : scan.items()) {
-      if (name != "latency_s") stages_s += value.get<double>();
+      if (name != "latency_s" && name.size() > 2 && name.compare(name.size() - 2, 2, "_s") == 0) {
+        stages_s += value.get<double>();
+      }
     }
     EXPECT_GE(scan.at("latency_s").get<double>(), stages_s * 0.999);
   }
+  // The map's bytes after the last scan are summary.json's, and what the map counts itself.
+  EXPECT_EQ(metric.at("map_bytes").get<double>(),
+            profile.at("per_scan").at(1).at("metric_map_bytes").get<double>());
+  EXPECT_GE(metric.at("map_bytes_max").get<double>(), metric.at("map_bytes").get<double>());
+  EXPECT_GT(metric.at("integrator_scratch_bytes").get<double>(), 0.0);
   const auto& segment = profile.at("stages").at("segment");
   for (const char* key : {"points_in", "planes_found", "created", "merged"}) EXPECT_TRUE(segment.contains(key)) << key;
   // Five points are too few for a plane: the files exist and hold no segment.
@@ -164,6 +170,10 @@ TEST_F(RunCommand, WritesEveryOutput) {
             std::round(profile.at("latency").at("p95_s").get<double>() * 1e6) / 1e3);
   EXPECT_EQ(summary.at("metric_map").at("occupied_voxels").get<std::size_t>(), map.counts().occupied);
   EXPECT_EQ(summary.at("metric_map").at("free_voxels").get<std::size_t>(), map.counts().free);
+  // The map read back from map.sarmap allocates what the run's map did (it only grew).
+  EXPECT_EQ(summary.at("metric_map").at("bytes").get<double>(),
+            profile.at("stages").at("metric").at("map_bytes"));
+  EXPECT_EQ(summary.at("metric_map").at("bytes").get<std::size_t>(), map.memory_bytes());
   EXPECT_EQ(summary.at("semantic_points").get<std::size_t>(), 5u);
   EXPECT_EQ(summary.at("segments").at("count").get<int>(), 0);
   EXPECT_EQ(summary.at("topo_map").at("nodes").get<int>(), 0);

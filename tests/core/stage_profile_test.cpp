@@ -99,5 +99,88 @@ TEST(StageProfile, LatencyPerScanAndAppendedRows) {
   EXPECT_EQ(loaded.json(), profile.json());
 }
 
+// Levels travel with their rows: a scan timed apart keeps its map bytes.
+TEST(StageProfile, AppendedRowsKeepTheirLevels) {
+  StageProfile profile;
+  profile.begin_scan();
+  profile.add_time("metric", 0.001);
+  profile.set_level("metric", "map_bytes", 10.0);
+  StageProfile in_flight;
+  in_flight.begin_scan();
+  in_flight.set_level("classify", "point_map_bytes", 3.0);  // a level new to `profile`
+  in_flight.set_level("metric", "map_bytes", 20.0);
+  in_flight.begin_scan();
+  in_flight.add_time("metric", 0.001);  // sets none
+  profile.append(in_flight);
+  ASSERT_EQ(profile.scan_count(), 3u);
+  EXPECT_EQ(profile.level("metric", "map_bytes").scans, 2u);
+  EXPECT_DOUBLE_EQ(profile.level("metric", "map_bytes").last, 20.0);
+  EXPECT_EQ(profile.level("classify", "point_map_bytes").scans, 1u);
+  const auto j = nlohmann::json::parse(profile.json());
+  EXPECT_FALSE(j["per_scan"][0].contains("classify_point_map_bytes"));
+  EXPECT_DOUBLE_EQ(j["per_scan"][1]["classify_point_map_bytes"].get<double>(), 3.0);
+  EXPECT_FALSE(j["per_scan"][2].contains("metric_map_bytes"));
+}
+
+TEST(StageProfile, LevelsAreKeptPerScanNotSummed) {
+  StageProfile profile;
+  for (double bytes : {100.0, 300.0, 200.0}) {
+    profile.begin_scan();
+    profile.add_time("metric", 0.01);
+    profile.set_level("metric", "map_bytes", bytes);
+  }
+  profile.begin_scan();
+  profile.add_time("metric", 0.01);  // a scan that sets no level
+  const auto level = profile.level("metric", "map_bytes");
+  EXPECT_EQ(level.scans, 3u);
+  EXPECT_DOUBLE_EQ(level.last, 200.0);
+  EXPECT_DOUBLE_EQ(level.max, 300.0);
+  EXPECT_EQ(profile.level("metric", "other").scans, 0u);
+  const auto j = nlohmann::json::parse(profile.json());
+  EXPECT_DOUBLE_EQ(j["stages"]["metric"]["map_bytes"].get<double>(), 200.0);
+  EXPECT_DOUBLE_EQ(j["stages"]["metric"]["map_bytes_max"].get<double>(), 300.0);
+  ASSERT_EQ(j["per_scan"].size(), 4u);
+  EXPECT_DOUBLE_EQ(j["per_scan"][1]["metric_map_bytes"].get<double>(), 300.0);
+  EXPECT_FALSE(j["per_scan"][3].contains("metric_map_bytes"));
+  // A level first set in a later scan is absent from the rows before it.
+  profile.set_level("classify", "point_map_bytes", 7.0);
+  const auto k = nlohmann::json::parse(profile.json());
+  EXPECT_FALSE(k["per_scan"][0].contains("classify_point_map_bytes"));
+  EXPECT_DOUBLE_EQ(k["per_scan"][3]["classify_point_map_bytes"].get<double>(), 7.0);
+}
+
+TEST(StageProfile, ASkippedScanTakesItsLevelsWithIt) {
+  StageProfile profile;
+  profile.begin_scan();
+  profile.set_level("metric", "map_bytes", 10.0);
+  profile.begin_scan();
+  profile.set_level("metric", "map_bytes", 50.0);
+  profile.skip_scan(1, "frame 1", "refused", true);
+  const auto level = profile.level("metric", "map_bytes");
+  EXPECT_EQ(level.scans, 1u);
+  EXPECT_DOUBLE_EQ(level.max, 10.0);
+}
+
+TEST(StageProfile, LevelsSurviveACheckpoint) {
+  StageProfile profile;
+  for (int scan = 0; scan < 3; ++scan) {
+    profile.begin_scan();
+    profile.add_time("metric", 0.01);
+    profile.set_level("metric", "map_bytes", 100.0 * scan);
+    if (scan == 1) profile.set_level("classify", "point_map_bytes", 5.0);
+  }
+  StateWriter out;
+  profile.save_state(out);
+  StageProfile back;
+  StateReader in(out.bytes(), "state.bin");
+  back.load_state(in);
+  EXPECT_EQ(back.json(), profile.json());
+  // And it goes on from there.
+  back.begin_scan();
+  back.set_level("metric", "map_bytes", 50.0);
+  EXPECT_DOUBLE_EQ(back.level("metric", "map_bytes").max, 200.0);
+  EXPECT_EQ(back.level("metric", "map_bytes").scans, 4u);
+}
+
 }  // namespace
 }  // namespace sarmap

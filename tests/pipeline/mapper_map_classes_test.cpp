@@ -89,6 +89,11 @@ TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
   // The last scans' blocks were still waiting, and nothing waits now.
   const double at_finish = mapper.profile().counter("classify", "blocks_at_finish");
   EXPECT_GT(at_finish, 0.0);
+  // The point map's bytes after every scan (finish() not included), beside
+  // the metric map's in the profile.
+  const StageProfile::LevelStats point_map = mapper.profile().level("classify", "point_map_bytes");
+  EXPECT_EQ(point_map.scans, mapper.profile().scan_count());
+  EXPECT_GT(point_map.last, static_cast<double>(classifier->map().size() * 12));
   mapper.finish();
   EXPECT_EQ(mapper.profile().counter("classify", "blocks_at_finish"), at_finish);
   // summary.json reports the labelled point map beside the metric map.

@@ -43,6 +43,13 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   EXPECT_GT(p.counter("metric", "voxel_visits"), p.counter("metric", "rays"));
   EXPECT_DOUBLE_EQ(p.counter("metric", "scans_hashed_walk"), 0.0);
   EXPECT_GT(mapper.metric_map().counts().occupied, 100u);
+  // Memory after each scan: the map's as it counts it, the integrator's scratch apart.
+  const StageProfile::LevelStats map_bytes = p.level("metric", "map_bytes");
+  EXPECT_EQ(map_bytes.scans, 3u);
+  EXPECT_EQ(map_bytes.last, static_cast<double>(mapper.metric_map().memory_bytes()));
+  EXPECT_EQ(map_bytes.max, map_bytes.last);  // an unbounded map only grows
+  EXPECT_GT(p.level("metric", "integrator_scratch_bytes").last, 0.0);
+  EXPECT_EQ(p.level("classify", "point_map_bytes").scans, 0u);  // the labels classifier keeps no point map
   // One kept point per 0.1 m voxel, its label carried as prediction and ground truth.
   const PointBuffer& kept = mapper.semantic_points();
   ASSERT_GT(kept.size(), 100u);
