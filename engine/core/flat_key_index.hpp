@@ -1,10 +1,13 @@
 // An open-addressing table from packed 64-bit keys to dense indices 0..n-1 in
 // insertion order: the metric integrator's per-scan scratch (end-voxel
-// dedupe, the blocks a thread's rays touch) and the segment map's voxel index.
+// dedupe, the blocks a thread's rays touch), the segment map's voxel index
+// and the metric map's index of its pooled blocks (block_map.hpp).
 // Hand-written because it sits in the ray loop and
 // bench/metric/key_table_bench.cpp measures it against std::unordered_map and
-// tbb::concurrent_hash_map on the same look-up stream; it only ever grows (or
-// is cleared), so it needs no deletion.
+// tbb::concurrent_hash_map on the same look-up stream. Linear probing, so an
+// erase shifts the entries after it back instead of leaving tombstones, and
+// the last key takes the erased key's index, so indices stay dense and a
+// caller's arrays indexed by them stay packed.
 #pragma once
 
 #include <cstdint>
@@ -66,6 +69,34 @@ class FlatKeyIndex {
       slot = (slot + 1) & mask_;
     }
   }
+  // Removes key. The key with the last index (size() - 1) takes its index,
+  // so the caller moves its entry at size() (after the call) to the index
+  // returned; nothing moves when the removed key had the last index.
+  // Returns the removed key's index, or kAbsent if the key was not held.
+  std::uint32_t erase(std::uint64_t key) {
+    const std::size_t slot = slot_of(key);
+    if (slot == kNoSlot) return kAbsent;
+    const std::uint32_t index = slots_[slot].index;
+    const std::uint32_t last = static_cast<std::uint32_t>(keys_.size() - 1);
+    if (index != last) {
+      slots_[slot_of(keys_[last])].index = index;
+      keys_[index] = keys_[last];
+    }
+    keys_.pop_back();
+    // Backward shift: each later entry of the run moves into the hole unless
+    // the hole lies before its home slot (cyclically), where a probe from
+    // its home would not pass.
+    std::size_t hole = slot;
+    for (std::size_t next = (hole + 1) & mask_; slots_[next].index != kAbsent; next = (next + 1) & mask_) {
+      const std::size_t home = mix_key(slots_[next].key) & mask_;
+      if (((next - home) & mask_) >= ((next - hole) & mask_)) {
+        slots_[hole] = slots_[next];
+        hole = next;
+      }
+    }
+    slots_[hole].index = kAbsent;
+    return index;
+  }
   // Empties the table, keeping its capacity. Costs the number of keys held.
   void clear() {
     for (std::uint64_t key : keys_) {
@@ -77,6 +108,7 @@ class FlatKeyIndex {
   }
 
  private:
+  static constexpr std::size_t kNoSlot = ~std::size_t{0};
   // An empty slot has index kAbsent; its key is then meaningless.
   struct Slot {
     std::uint64_t key = 0;
@@ -87,6 +119,16 @@ class FlatKeyIndex {
     std::size_t p = 16;
     while (p < n) p *= 2;
     return p;
+  }
+  // The slot holding key, or kNoSlot.
+  std::size_t slot_of(std::uint64_t key) const {
+    std::size_t slot = mix_key(key) & mask_;
+    while (true) {
+      const Slot& s = slots_[slot];
+      if (s.index == kAbsent) return kNoSlot;
+      if (s.key == key) return slot;
+      slot = (slot + 1) & mask_;
+    }
   }
   void rehash(std::size_t capacity) {
     slots_.assign(capacity, Slot{});

@@ -1,17 +1,20 @@
-// A sparse voxel grid: 8 x 8 x 8-voxel blocks in a hash table keyed by block
-// coordinates, generic over the voxel payload, with an accessor that caches
-// the last block so a walk through one block pays one hash look-up.
+// A sparse voxel grid: 8 x 8 x 8-voxel blocks in pooled storage, found
+// through a flat hash table from block keys to block indices, generic over
+// the voxel payload, with an accessor that caches the last block so a walk
+// through one block pays one hash look-up.
 #pragma once
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <tuple>
-#include <unordered_map>
 #include <vector>
 
+#include "engine/core/capacity_bytes.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::metric {
@@ -22,43 +25,67 @@ struct VoxelBlock {
   std::array<Payload, kBlockVoxels> voxels{};
 };
 
-// Blocks live behind unique_ptr so their addresses survive rehashing: an
-// accessor's cached pointer and the integrator's per-scan block list stay
-// valid while blocks are added (not after erase or clear).
+// Blocks are numbered 0..n-1 by the key index (FlatKeyIndex) and stored in
+// pages of kPageBlocks, so a new block costs no allocation of its own (one
+// per page) and a block's address survives the map's growth: an accessor's
+// cached pointer and the integrator's per-scan block list stay valid while
+// blocks are added (not after erase or clear). An erase moves the last
+// block into the freed index, so storage stays packed, dropped blocks'
+// slots are the next ones used, and a page left empty is freed.
 template <class Payload>
 class BlockMap {
  public:
   using Block = VoxelBlock<Payload>;
+  // At most 64 KiB of blocks per page (8 of 7 KiB blocks): few allocations,
+  // and little left unused in the last page. A power of two, so a block
+  // index splits into page and slot by shift and mask.
+  static constexpr std::size_t kPageBlocks =
+      std::bit_floor(std::max<std::size_t>(1, (64 << 10) / sizeof(Block)));
 
   BlockMap() = default;
 
-  std::size_t block_count() const { return blocks_.size(); }
-  bool empty() const { return blocks_.empty(); }
+  std::size_t block_count() const { return index_.size(); }
+  bool empty() const { return index_.size() == 0; }
 
   // The block, or nullptr. One hash look-up.
   Block* find(const BlockKey& key) {
-    const auto it = blocks_.find(pack(key));
-    return it == blocks_.end() ? nullptr : it->second.get();
+    const std::uint32_t i = index_.find(pack(key));
+    return i == FlatKeyIndex::kAbsent ? nullptr : &at(i);
   }
   const Block* find(const BlockKey& key) const {
-    const auto it = blocks_.find(pack(key));
-    return it == blocks_.end() ? nullptr : it->second.get();
+    const std::uint32_t i = index_.find(pack(key));
+    return i == FlatKeyIndex::kAbsent ? nullptr : &at(i);
   }
   // The block, created all-unknown if absent. Not thread-safe.
   Block& find_or_create(const BlockKey& key) {
-    auto& slot = blocks_[pack(key)];
-    if (!slot) slot = std::make_unique<Block>();
-    return *slot;
+    const std::size_t count = index_.size();
+    const std::uint32_t i = index_.find_or_insert(pack(key));
+    // Slots past the last block are kept unknown (erase resets the one it
+    // vacates; a new page is value-initialised), so a new block needs no reset.
+    if (i == count && i == pages_.size() * kPageBlocks)
+      pages_.push_back(std::make_unique<Block[]>(kPageBlocks));
+    return at(i);
   }
-  bool erase(const BlockKey& key) { return blocks_.erase(pack(key)) > 0; }
-  void clear() { blocks_.clear(); }
-  // Bytes the map allocates: every block, its hash node (key, the block's
-  // pointer, the next link and the cached hash code, as libstdc++ lays a
-  // node out) and the bucket array.
+  // Drops a block: its voxels become unknown, as if never observed. Moves
+  // the last block into its slot (invalidating pointers to that block).
+  bool erase(const BlockKey& key) {
+    const std::uint32_t freed = index_.erase(pack(key));
+    if (freed == FlatKeyIndex::kAbsent) return false;
+    const std::size_t last = index_.size();  // the moved block's old index
+    if (freed != last) at(freed) = at(last);
+    at(last).voxels.fill(Payload{});
+    pages_.resize((last + kPageBlocks - 1) / kPageBlocks);
+    return true;
+  }
+  // Drops every block and frees all storage.
+  void clear() { *this = BlockMap(); }
+
+  // Bytes the map allocates: the pages of blocks (unused slots of the last
+  // page included), the page list, and the key index's slots and keys. The
+  // index keeps the size it grew to when blocks are dropped.
   std::size_t memory_bytes() const {
-    constexpr std::size_t node =
-        sizeof(void*) + sizeof(std::uint64_t) + sizeof(std::unique_ptr<Block>) + sizeof(std::size_t);
-    return sizeof(*this) + blocks_.size() * (sizeof(Block) + node) + blocks_.bucket_count() * sizeof(void*);
+    return sizeof(*this) + pages_.size() * kPageBlocks * sizeof(Block) + capacity_bytes(pages_) +
+           index_.memory_bytes();
   }
 
   // Payload of a voxel, or nullptr when its block does not exist.
@@ -70,17 +97,19 @@ class BlockMap {
   // Calls fn(BlockKey, Block&) for every block in unspecified order.
   template <class Fn>
   void for_each_block(Fn&& fn) {
-    for (auto& [word, block] : blocks_) fn(unpack_block(word), *block);
+    const std::vector<std::uint64_t>& keys = index_.keys();
+    for (std::size_t i = 0; i < keys.size(); ++i) fn(unpack_block(keys[i]), at(i));
   }
   template <class Fn>
   void for_each_block(Fn&& fn) const {
-    for (const auto& [word, block] : blocks_) fn(unpack_block(word), static_cast<const Block&>(*block));
+    const std::vector<std::uint64_t>& keys = index_.keys();
+    for (std::size_t i = 0; i < keys.size(); ++i) fn(unpack_block(keys[i]), at(i));
   }
   // Block keys in (z, y, x) order: the deterministic order files are written in.
   std::vector<BlockKey> sorted_block_keys() const {
     std::vector<BlockKey> keys;
-    keys.reserve(blocks_.size());
-    for (const auto& entry : blocks_) keys.push_back(unpack_block(entry.first));
+    keys.reserve(index_.size());
+    for (const std::uint64_t word : index_.keys()) keys.push_back(unpack_block(word));
     std::sort(keys.begin(), keys.end(), [](const BlockKey& a, const BlockKey& b) {
       return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });
@@ -139,7 +168,15 @@ class BlockMap {
   };
 
  private:
-  std::unordered_map<std::uint64_t, std::unique_ptr<Block>, PackedKeyHash> blocks_;
+  static constexpr int kPageShift = std::countr_zero(kPageBlocks);
+
+  Block& at(std::size_t i) { return pages_[i >> kPageShift][i & (kPageBlocks - 1)]; }
+  const Block& at(std::size_t i) const { return pages_[i >> kPageShift][i & (kPageBlocks - 1)]; }
+
+  // Small at first: a map of a few blocks (tests, a hand-made map) should
+  // not pay for a large table; it doubles as blocks are added.
+  FlatKeyIndex index_{64};
+  std::vector<std::unique_ptr<Block[]>> pages_;
 };
 
 }  // namespace sarmap::metric

@@ -1,8 +1,16 @@
 // Block map and keys: packing at the limits, negative coordinates, the
-// accessor's one-look-up-per-block caching.
+// accessor's one-look-up-per-block caching, and the pooled blocks against a
+// plain std::map of blocks on random creates, writes and erases.
 #include "engine/metric/block_map.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <random>
+#include <tuple>
+#include <vector>
 
 #include "engine/metric/semantic_voxel.hpp"
 
@@ -68,6 +76,112 @@ TEST(BlockMap, AccessorLooksUpOncePerBlock) {
   EXPECT_EQ(access.find(VoxelKey{-1, 0, 0}), nullptr);
   access.get_or_create(VoxelKey{-1, 0, 0});
   EXPECT_EQ(map.block_count(), 4u);
+}
+
+// The reference: every block's voxels by key, in a std::map.
+using ReferenceBlocks = std::map<std::tuple<int, int, int>, std::array<SemanticVoxel, kBlockVoxels>>;
+
+void expect_same_blocks(const BlockMap<SemanticVoxel>& map, const ReferenceBlocks& reference) {
+  ASSERT_EQ(map.block_count(), reference.size());
+  std::size_t visited = 0;
+  map.for_each_block([&](const BlockKey& key, const BlockMap<SemanticVoxel>::Block& block) {
+    ++visited;
+    const auto it = reference.find({key.x, key.y, key.z});
+    ASSERT_NE(it, reference.end()) << key.x << " " << key.y << " " << key.z;
+    ASSERT_EQ(std::memcmp(block.voxels.data(), it->second.data(), sizeof(block.voxels)), 0);
+    ASSERT_EQ(map.find(key), &block);
+  });
+  ASSERT_EQ(visited, reference.size());
+  std::vector<BlockKey> sorted;
+  for (const auto& entry : reference) {
+    const auto& [x, y, z] = entry.first;
+    sorted.push_back({x, y, z});
+  }
+  std::sort(sorted.begin(), sorted.end(), [](const BlockKey& a, const BlockKey& b) {
+    return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
+  });
+  ASSERT_EQ(map.sorted_block_keys(), sorted);
+}
+
+TEST(BlockMap, PooledBlocksMatchAPlainMapOnRandomCreatesWritesAndErases) {
+  std::mt19937 rng(11);
+  // Few distinct keys, so creates, erases and re-creates of one key mix;
+  // negative and far keys included.
+  std::uniform_int_distribution<int> coord(-6, 6);
+  std::uniform_int_distribution<int> voxel(0, kBlockVoxels - 1);
+  BlockMap<SemanticVoxel> map;
+  ReferenceBlocks reference;
+  const auto random_key = [&] {
+    const int far = rng() % 8 == 0 ? 100000 : 0;
+    return BlockKey{coord(rng) + far, coord(rng), coord(rng) - far};
+  };
+  for (int step = 0; step < 30000; ++step) {
+    const BlockKey key = random_key();
+    const auto ref_key = std::make_tuple(key.x, key.y, key.z);
+    const int op = static_cast<int>(rng() % 8);
+    if (op < 4) {  // create (or find) and write a voxel
+      auto& block = map.find_or_create(key);
+      auto [it, created] = reference.try_emplace(ref_key);
+      if (created) {
+        for (const SemanticVoxel& v : block.voxels) ASSERT_FALSE(v.known()) << "a new block is all unknown";
+      }
+      const int l = voxel(rng);
+      block.voxels[l].log_odds = static_cast<std::int16_t>(step % 3000);
+      block.voxels[l].evidence[step % kClassCount] = static_cast<std::int16_t>(step);
+      it->second[l] = block.voxels[l];
+    } else if (op < 7) {
+      ASSERT_EQ(map.erase(key), reference.erase(ref_key) > 0);
+      ASSERT_EQ(map.find(key), nullptr);
+    } else {
+      const SemanticVoxel* v = map.voxel(voxel_of(key, 5));
+      const auto it = reference.find(ref_key);
+      ASSERT_EQ(v == nullptr, it == reference.end());
+      if (v) {
+        ASSERT_EQ(std::memcmp(v, &it->second[5], sizeof(SemanticVoxel)), 0);
+      }
+    }
+    if (step % 251 == 0) expect_same_blocks(map, reference);
+  }
+  expect_same_blocks(map, reference);
+  map.clear();
+  EXPECT_TRUE(map.empty());
+  EXPECT_EQ(map.memory_bytes(), BlockMap<SemanticVoxel>().memory_bytes());
+}
+
+TEST(BlockMap, DroppedBlocksSlotsAreReusedAndEmptyPagesFreed) {
+  using Map = BlockMap<SemanticVoxel>;
+  constexpr int kPages = 6;
+  const int blocks = static_cast<int>(kPages * Map::kPageBlocks);
+  Map map;
+  const auto key = [](int i) { return BlockKey{i % 40, i / 40, -3}; };
+  for (int i = 0; i < blocks; ++i) map.find_or_create(key(i)).voxels[i % kBlockVoxels].log_odds = 1;
+  const std::size_t full = map.memory_bytes();
+  // Drop every other block, then as many new ones: no more storage than before.
+  for (int i = 0; i < blocks; i += 2) ASSERT_TRUE(map.erase(key(i)));
+  for (int i = 0; i < blocks; i += 2) {
+    const auto& block = map.find_or_create(key(blocks + i));
+    for (const SemanticVoxel& v : block.voxels) ASSERT_FALSE(v.known()) << "a reused slot is all unknown";
+  }
+  EXPECT_EQ(map.block_count(), static_cast<std::size_t>(blocks));
+  EXPECT_EQ(map.memory_bytes(), full);
+  // The kept blocks kept their voxels.
+  for (int i = 1; i < blocks; i += 2) ASSERT_EQ(map.find(key(i))->voxels[i % kBlockVoxels].log_odds, 1) << i;
+  // Dropping all but one page's worth frees the other pages (the key table keeps its size).
+  for (int i = 1; i < blocks; i += 2) map.erase(key(i));
+  for (int i = 0; i < blocks; i += 2) {
+    if (map.block_count() == Map::kPageBlocks) break;
+    map.erase(key(blocks + i));
+  }
+  EXPECT_EQ(map.memory_bytes(), full - (kPages - 1) * Map::kPageBlocks * sizeof(Map::Block));
+}
+
+TEST(BlockMap, BlocksKeepTheirAddressesWhileTheMapGrows) {
+  BlockMap<SemanticVoxel> map;
+  auto* first = &map.find_or_create(BlockKey{1, 2, 3});
+  first->voxels[9].log_odds = 42;
+  for (int i = 0; i < 5000; ++i) map.find_or_create(BlockKey{i, -i, i % 7});  // pages and table grow
+  EXPECT_EQ(map.find(BlockKey{1, 2, 3}), first);
+  EXPECT_EQ(first->voxels[9].log_odds, 42);
 }
 
 }  // namespace
