@@ -74,8 +74,7 @@ VoxelScores score_voxels(const metric::MetricMap& map, const sim::GroundTruthGri
   map.blocks().for_each_block(
       [&](const metric::BlockKey& block, const metric::MetricMap::Blocks::Block& voxels) {
         for (int i = 0; i < metric::kBlockVoxels; ++i) {
-          const metric::SemanticVoxel& v = voxels.voxels[static_cast<std::size_t>(i)];
-          const metric::VoxelState state = occupancy.state(v.log_odds);
+          const metric::VoxelState state = occupancy.state(voxels.log_odds(i));
           if (state == metric::VoxelState::Unknown) continue;
           const sim::VoxelKey key = truth_key(metric::voxel_of(block, i));
           if (state == metric::VoxelState::Free) {
@@ -91,7 +90,7 @@ VoxelScores score_voxels(const metric::MetricMap& map, const sim::GroundTruthGri
             ++s.occupied_correct_within_1;
             // A truth voxel without a class (no labelled area) cannot be scored.
             if (it->second.label != ClassId::Unknown) {
-              s.classes.add(it->second.label, metric::LabelFusion::dominant(v.evidence));
+              s.classes.add(it->second.label, metric::LabelFusion::dominant(voxels.evidence(i)));
             }
           } else if (near(key, truth_occupied)) {
             ++s.occupied_correct_within_1;

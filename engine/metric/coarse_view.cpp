@@ -23,7 +23,7 @@ CoarseVoxel combine(const MetricMap& map, const MetricMap::Blocks::Block& block,
     for (int dy = 0; dy < factor; ++dy)
       for (int dx = 0; dx < factor; ++dx) {
         const VoxelKey child{(coarse.x << shift) + dx, (coarse.y << shift) + dy, (coarse.z << shift) + dz};
-        const SemanticVoxel& v = block.voxels[local_index(child)];
+        const SemanticVoxel v = block.voxel(local_index(child));
         if (!v.known()) continue;
         if (out.log_odds == kUnknownLogOdds || v.log_odds > out.log_odds) out.log_odds = v.log_odds;
         if (occ.state(v.log_odds) == VoxelState::Occupied) {

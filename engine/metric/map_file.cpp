@@ -116,7 +116,7 @@ void save_map(const MetricMap& map, const std::filesystem::path& path) {
     block.i32(k.x);
     block.i32(k.y);
     block.i32(k.z);
-    for (const SemanticVoxel& v : map.blocks().find(k)->voxels) {
+    for (const SemanticVoxel& v : map.blocks().find(k)->dense()) {
       block.i16(v.log_odds);
       for (std::int16_t e : v.evidence) block.i16(e);
     }
@@ -197,8 +197,6 @@ MetricMap load_map(const std::filesystem::path& path) {
     }
   }();
   const OccupancyModel& occ = map.occupancy();
-  // Blocks are added one by one, as a run adds them, so the loaded map
-  // allocates (and reports, memory_bytes) what a map that only grew does.
   const std::int32_t max_block = static_cast<std::int32_t>((kMaxCoordinate / s.resolution) / kBlockEdge) + 1;
   for (std::uint64_t b = 0; b < count; ++b) {
     const std::size_t at = d.offset();
@@ -210,8 +208,8 @@ MetricMap load_map(const std::filesystem::path& path) {
                          std::to_string(key.z) + ") lies beyond the map limits of +-10 km");
     }
     if (map.blocks().find(key)) throw fail(at, "block stored twice");
-    auto& block = map.blocks().find_or_create(key);
-    for (SemanticVoxel& v : block.voxels) {
+    DenseVoxels voxels;
+    for (SemanticVoxel& v : voxels) {
       const std::size_t voxel_at = d.offset();
       v.log_odds = d.i16();
       for (auto& e : v.evidence) e = d.i16();
@@ -220,6 +218,7 @@ MetricMap load_map(const std::filesystem::path& path) {
                                  std::to_string(occ.min()) + ", " + std::to_string(occ.max()) + "]");
       }
     }
+    map.blocks().assign(key, voxels);
   }
   return map;
 }

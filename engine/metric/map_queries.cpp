@@ -24,8 +24,8 @@ std::optional<RayHit> cast_ray(const MetricMap& map, const Eigen::Vector3d& orig
   MetricMap::Blocks::ConstAccessor access(map.blocks());
   std::optional<VoxelKey> found;
   const auto occupied = [&](const VoxelKey& k) {
-    const SemanticVoxel* v = access.find(k);
-    return v && map.occupancy().state(v->log_odds) == VoxelState::Occupied;
+    const SemanticBlock* b = access.block(k);
+    return b && map.occupancy().state(b->log_odds(local_index(k))) == VoxelState::Occupied;
   };
   walk_ray(start_v, end_v, [&](const VoxelKey& k) {
     if (occupied(k)) {
@@ -70,7 +70,7 @@ void for_each_known_in_box(const MetricMap& map, const Bounds& box, Fn&& fn) {
     for (int l = 0; l < kBlockVoxels; ++l) {
       const VoxelKey k = voxel_of(bk, l);
       if (k.x < lo.x || k.y < lo.y || k.z < lo.z || k.x > hi.x || k.y > hi.y || k.z > hi.z) continue;
-      if (block.voxels[l].known()) fn(k, block.voxels[l]);
+      if (block.known(l)) fn(k, block.voxel(l));
     }
   };
   // Small boxes probe their blocks; large ones scan the map's blocks.
@@ -106,8 +106,9 @@ std::vector<VoxelKey> frontier_voxels(const MetricMap& map, const Bounds& box) {
     if (map.occupancy().state(v.log_odds) != VoxelState::Free) return;
     static constexpr int kOffsets[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const auto& d : kOffsets) {
-      const SemanticVoxel* n = access.find({k.x + d[0], k.y + d[1], k.z + d[2]});
-      if (!n || !n->known()) {
+      const VoxelKey n{k.x + d[0], k.y + d[1], k.z + d[2]};
+      const SemanticBlock* b = access.block(n);
+      if (!b || !b->known(local_index(n))) {
         out.push_back(k);
         return;
       }

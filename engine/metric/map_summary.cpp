@@ -9,7 +9,7 @@ MapSummary summarize_map(const MetricMap& map) {
   const double half = 0.5 * map.resolution();
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
     for (int l = 0; l < kBlockVoxels; ++l) {
-      const SemanticVoxel& v = block.voxels[l];
+      const SemanticVoxel v = block.voxel(l);
       const VoxelState state = occ.state(v.log_odds);
       if (state == VoxelState::Unknown) continue;
       const Eigen::Vector3d c = map.center_of(voxel_of(bk, l));

@@ -33,8 +33,8 @@ Eigen::Vector3d MetricMap::center_of(const VoxelKey& k) const {
 }
 
 VoxelState MetricMap::state(const VoxelKey& key) const {
-  const SemanticVoxel* v = blocks_.voxel(key);
-  return v ? occupancy_.state(v->log_odds) : VoxelState::Unknown;
+  const Blocks::Block* b = blocks_.find(block_of(key));
+  return b ? occupancy_.state(b->log_odds(local_index(key))) : VoxelState::Unknown;
 }
 
 VoxelState MetricMap::state_at(const Eigen::Vector3d& point) const {
@@ -44,14 +44,14 @@ VoxelState MetricMap::state_at(const Eigen::Vector3d& point) const {
 
 double MetricMap::probability_at(const Eigen::Vector3d& point) const {
   const auto key = key_at(point);
-  const SemanticVoxel* v = key ? blocks_.voxel(*key) : nullptr;
-  return v ? OccupancyModel::probability(v->log_odds) : 0.5;
+  const Blocks::Block* b = key ? blocks_.find(block_of(*key)) : nullptr;
+  return b ? OccupancyModel::probability(b->log_odds(local_index(*key))) : 0.5;
 }
 
 ClassId MetricMap::class_of(const VoxelKey& key) const {
-  const SemanticVoxel* v = blocks_.voxel(key);
-  if (!v || occupancy_.state(v->log_odds) != VoxelState::Occupied) return ClassId::Unknown;
-  return LabelFusion::dominant(v->evidence);
+  const Blocks::Block* b = blocks_.find(block_of(key));
+  if (!b || occupancy_.state(b->log_odds(local_index(key))) != VoxelState::Occupied) return ClassId::Unknown;
+  return LabelFusion::dominant(b->evidence(local_index(key)));
 }
 
 ClassId MetricMap::class_at(const Eigen::Vector3d& point) const {
@@ -62,29 +62,32 @@ ClassId MetricMap::class_at(const Eigen::Vector3d& point) const {
 bool MetricMap::replace_evidence(const VoxelKey& key, const ClassObservation& observation) {
   Blocks::Block* block = blocks_.find(block_of(key));
   if (block == nullptr) return false;
-  SemanticVoxel& voxel = block->voxels[local_index(key)];
-  if (!voxel.known()) return false;
-  voxel.evidence = {};
-  fusion_.observe(voxel.evidence, observation);
+  const int l = local_index(key);
+  if (!block->known(l)) return false;
+  ClassEvidence evidence{};
+  fusion_.observe(evidence, observation);
+  blocks_.set_evidence(*block, l, evidence);
   return true;
 }
 
 ClassEvidence MetricMap::evidence(const VoxelKey& key) const {
-  const SemanticVoxel* v = blocks_.voxel(key);
-  return v ? v->evidence : ClassEvidence{};
+  const Blocks::Block* b = blocks_.find(block_of(key));
+  return b ? b->evidence(local_index(key)) : ClassEvidence{};
 }
 
 MapCounts MetricMap::counts() const {
   MapCounts c;
   c.blocks = blocks_.block_count();
+  const auto add = [&c](VoxelState state, std::size_t n) {
+    if (state == VoxelState::Free) c.free += n;
+    if (state == VoxelState::Occupied) c.occupied += n;
+  };
   blocks_.for_each_block([&](const BlockKey&, const Blocks::Block& block) {
-    for (const SemanticVoxel& v : block.voxels) {
-      switch (occupancy_.state(v.log_odds)) {
-        case VoxelState::Free: ++c.free; break;
-        case VoxelState::Occupied: ++c.occupied; break;
-        case VoxelState::Unknown: break;
-      }
+    if (block.uniform_occupancy()) {
+      add(occupancy_.state(block.uniform_log_odds()), kBlockVoxels);
+      return;
     }
+    for (int l = 0; l < kBlockVoxels; ++l) add(occupancy_.state(block.log_odds_slab()[l]), 1);
   });
   c.known = c.free + c.occupied;
   return c;

@@ -1,6 +1,7 @@
-// The metric map: a hashed block map of semantic voxels plus the models that
-// give its numbers meaning (resolution, occupancy, class fusion), and the
-// point queries every later stage uses (state, probability, class).
+// The metric map: its blocks of semantic voxels (semantic_blocks.hpp) plus
+// the models that give their numbers meaning (resolution, occupancy, class
+// fusion), and the point queries every later stage uses (state,
+// probability, class).
 #pragma once
 
 #include <cstddef>
@@ -10,9 +11,9 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/state_stream.hpp"
-#include "engine/metric/block_map.hpp"
 #include "engine/metric/label_fusion.hpp"
 #include "engine/metric/occupancy_model.hpp"
+#include "engine/metric/semantic_blocks.hpp"
 #include "engine/metric/semantic_voxel.hpp"
 #include "engine/metric/voxel_key.hpp"
 
@@ -37,7 +38,7 @@ struct MapCounts {
 
 class MetricMap {
  public:
-  using Blocks = BlockMap<SemanticVoxel>;
+  using Blocks = SemanticBlocks;
 
   // Throws sarmap::Error (InvalidArgument) for settings out of range.
   explicit MetricMap(const MetricMapSettings& settings = {});
@@ -71,9 +72,10 @@ class MetricMap {
 
   // Counts every voxel; costs a pass over all blocks.
   MapCounts counts() const;
-  // Bytes the map allocates, counted by its block map (block storage, hash
-  // table, per-block overhead) plus the map object itself; not the ray
-  // integrator's scratch (RayIntegrator::scratch_bytes).
+  // Bytes the map allocates, counted by its blocks (SemanticBlocks::
+  // memory_bytes: block records and their key index, log-odds slabs,
+  // evidence rows) plus the map object itself; not the ray integrator's
+  // scratch (RayIntegrator::scratch_bytes).
   std::size_t memory_bytes() const { return sizeof(*this) - sizeof(Blocks) + blocks_.memory_bytes(); }
 
   // Every block, for a checkpoint (engine/core/state_stream.hpp).

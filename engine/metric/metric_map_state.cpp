@@ -1,5 +1,5 @@
 // The metric map's part of a checkpoint: its resolution and fusion as a check,
-// then every block (key and raw voxels) in (z, y, x) order.
+// then every block (key and its voxels as DenseVoxels) in (z, y, x) order.
 #include <cstdlib>
 #include <string>
 
@@ -16,7 +16,7 @@ void MetricMap::save_state(StateWriter& out) const {
   out.put<std::uint64_t>(keys.size());
   for (const BlockKey& key : keys) {
     out.put(key);
-    out.put(blocks_.find(key)->voxels);
+    out.put(blocks_.find(key)->dense());
   }
 }
 
@@ -29,19 +29,15 @@ void MetricMap::load_state(StateReader& in) {
             std::to_string(fusion) + ", this run " + std::to_string(settings_.resolution) + " m and " +
             std::to_string(static_cast<int>(settings_.fusion.fusion)));
   }
-  using Voxels = decltype(Blocks::Block::voxels);
-  const std::size_t count = in.get_count(sizeof(BlockKey) + sizeof(Voxels));
+  const std::size_t count = in.get_count(sizeof(BlockKey) + sizeof(DenseVoxels));
   const std::int64_t max_block = static_cast<std::int64_t>((kMaxCoordinate / resolution) / kBlockEdge) + 1;
-  // Added one by one as the run added them, without a reserve: a resumed
-  // run's map then allocates (and reports, memory_bytes) what the
-  // uninterrupted run's does, for a map that only grew.
   Blocks loaded;
   for (std::size_t b = 0; b < count; ++b) {
     const auto key = in.get<BlockKey>();
     const auto beyond = [max_block](std::int32_t v) { return std::abs(std::int64_t{v}) > max_block; };
     if (beyond(key.x) || beyond(key.y) || beyond(key.z)) in.fail("a map block lies beyond the map limits");
     if (loaded.find(key) != nullptr) in.fail("a map block is stored twice");
-    loaded.find_or_create(key).voxels = in.get<Voxels>();
+    loaded.assign(key, in.get<DenseVoxels>());
   }
   blocks_ = std::move(loaded);
 }

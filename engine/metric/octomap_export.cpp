@@ -72,7 +72,7 @@ std::string octomap_binary(const MetricMap& map, std::size_t* node_count) {
   const OccupancyModel& occ = map.occupancy();
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
     for (int l = 0; l < kBlockVoxels; ++l) {
-      const SemanticVoxel& v = block.voxels[l];
+      const SemanticVoxel v = block.voxel(l);
       if (!v.known()) continue;
       const std::uint64_t code = octomap_keys::morton_of(voxel_of(bk, l), map.resolution(), ".bt");
       const bool occupied = occ.state(v.log_odds) == VoxelState::Occupied;

@@ -19,8 +19,8 @@ std::uint32_t ScanUpdate::merged_index(std::uint64_t packed_block) {
 std::size_t ScanUpdate::memory_bytes() const {
   return merged_.memory_bytes() + capacity_bytes(merged_miss_) + capacity_bytes(merged_hit_) +
          capacity_bytes(dense_grids_) + capacity_bytes(merged_of_grid_) + capacity_bytes(order_) +
-         capacity_bytes(block_of_index_) + capacity_bytes(hit_list_) + capacity_bytes(hit_block_) +
-         capacity_bytes(hit_cursor_) + capacity_bytes(hit_start_);
+         capacity_bytes(block_of_index_) + capacity_bytes(uniform_after_) + capacity_bytes(hit_list_) +
+         capacity_bytes(hit_block_) + capacity_bytes(hit_cursor_) + capacity_bytes(hit_start_);
 }
 
 void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) {
@@ -133,33 +133,72 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
     }
   }
   stats.hits += hit_list_.size();
+  // Each block gets the storage pass 4 writes into: its log-odds expanded
+  // unless uniform and left as they are (misses only, on voxels at the
+  // clamp minimum), room for a row per hit voxel without evidence yet.
+  const OccupancyModel& occ = map.occupancy();
+  for (std::size_t b = 0; b < merged_keys.size(); ++b) {
+    SemanticBlock& block = *block_of_index_[b];
+    std::size_t new_rows = 0;
+    for (std::size_t h = hit_start_[b]; h != hit_start_[b + 1]; ++h) {
+      new_rows += block.holds_evidence(local_index(end_keys[hit_list_[h]])) ? 0 : 1;
+    }
+    const bool hits = hit_start_[b + 1] != hit_start_[b];
+    const std::int16_t u = block.uniform_log_odds();
+    blocks.prepare(block, hits || occ.add(u, occ.miss()) != u, new_rows);
+  }
 
   // Pass 4: parallel updates, one block per task (its misses, then its
   // hits), so each voxel belongs to exactly one task.
-  const OccupancyModel& occ = map.occupancy();
   const LabelFusion& fusion = map.fusion();
   const std::vector<ClassObservation>& observations = rays.ends().observations();
+  uniform_after_.assign(merged_keys.size(), 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                        auto& voxels = block_of_index_[b]->voxels;
-                        for (std::size_t w = 0; w < BlockMask{}.size(); ++w) {
-                          std::uint64_t bits = merged_miss_[b][w] & ~merged_hit_[b][w];
-                          while (bits) {
-                            SemanticVoxel& v = voxels[w * 64 + static_cast<std::size_t>(std::countr_zero(bits))];
-                            bits &= bits - 1;
-                            v.log_odds = occ.add(v.log_odds, occ.miss());
-                            if (occ.state(v.log_odds) == VoxelState::Free) fusion.decay(v.evidence);
-                          }
-                        }
-                        for (std::size_t h = hit_start_[b]; h != hit_start_[b + 1]; ++h) {
-                          const std::uint32_t u = hit_list_[h];
-                          SemanticVoxel& v = voxels[local_index(end_keys[u])];
-                          v.log_odds = occ.add(v.log_odds, occ.hit());
-                          fusion.observe(v.evidence, observations[u]);
-                        }
+                        update_block(*block_of_index_[b], merged_miss_[b], merged_hit_[b], b, occ, fusion,
+                                     end_keys, observations);
+                        uniform_after_[b] = SemanticBlocks::uniform_slab(*block_of_index_[b]) ? 1 : 0;
                       }
                     });
+  // Blocks whose log-odds all became equal give their slab back, and rows
+  // storage well beyond what is left.
+  for (std::size_t b = 0; b < merged_keys.size(); ++b)
+    blocks.settle(*block_of_index_[b], uniform_after_[b] != 0);
+}
+
+void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const BlockMask& hit,
+                              std::size_t b, const OccupancyModel& occ, const LabelFusion& fusion,
+                              const std::vector<VoxelKey>& end_keys,
+                              const std::vector<ClassObservation>& observations) const {
+  std::int16_t* log_odds = block.log_odds_slab();
+  // Not expanded: uniform, and the misses leave it so (prepare()).
+  const bool uniform_free = log_odds == nullptr && occ.state(block.uniform_log_odds()) == VoxelState::Free;
+  for (std::size_t w = 0; w < miss.size(); ++w) {
+    std::uint64_t bits = miss[w] & ~hit[w];
+    while (bits) {
+      const int l = static_cast<int>(w * 64) + std::countr_zero(bits);
+      bits &= bits - 1;
+      bool free = uniform_free;
+      if (log_odds != nullptr) {
+        log_odds[l] = occ.add(log_odds[l], occ.miss());
+        free = occ.state(log_odds[l]) == VoxelState::Free;
+      }
+      if (!free) continue;
+      if (ClassEvidence* row = block.evidence_row(l)) {
+        fusion.decay(*row);
+        if (no_evidence(*row)) block.put_evidence(l, ClassEvidence{});
+      }
+    }
+  }
+  for (std::size_t h = hit_start_[b]; h != hit_start_[b + 1]; ++h) {
+    const std::uint32_t u = hit_list_[h];
+    const int l = local_index(end_keys[u]);
+    log_odds[l] = occ.add(log_odds[l], occ.hit());
+    ClassEvidence evidence = block.evidence(l);
+    fusion.observe(evidence, observations[u]);
+    block.put_evidence(l, evidence);
+  }
 }
 
 }  // namespace sarmap::metric

@@ -2,8 +2,10 @@
 // of ray integration. Pass 3, serial: the threads' miss masks merged by OR
 // (so the union does not depend on which thread walked which ray), the hits
 // as bits that override misses and listed by block, and the blocks found or
-// created in sorted key order. Pass 4, parallel: one block per task, its
-// misses and then its hits, so every voxel is written once by one thread.
+// created in sorted key order, and each given the storage pass 4 writes
+// into (SemanticBlocks::prepare). Pass 4, parallel: one block per task, its
+// misses and then its hits, so every voxel is written once by one thread;
+// then, serially, blocks whose log-odds became uniform collapse (settle).
 #pragma once
 
 #include <cstdint>
@@ -29,13 +31,19 @@ class ScanUpdate {
  private:
   // Index of a block among the scan's merged blocks (created empty).
   std::uint32_t merged_index(std::uint64_t packed_block);
+  // Pass 4 for merged block b: its misses, then its hits.
+  void update_block(SemanticBlock& block, const BlockMask& miss, const BlockMask& hit, std::size_t b,
+                    const OccupancyModel& occ, const LabelFusion& fusion,
+                    const std::vector<VoxelKey>& end_keys,
+                    const std::vector<ClassObservation>& observations) const;
 
   FlatKeyIndex merged_{16384};
   std::vector<BlockMask> merged_miss_, merged_hit_;  // per merged block
   std::vector<std::uint64_t*> dense_grids_;          // the threads' grids in use
   std::vector<std::uint32_t> merged_of_grid_;        // per block of the dense box: merged index or kAbsent
   std::vector<std::uint32_t> order_;                 // merged blocks in sorted key order
-  std::vector<MetricMap::Blocks::Block*> block_of_index_;
+  std::vector<SemanticBlock*> block_of_index_;
+  std::vector<std::uint8_t> uniform_after_;  // per merged block: its log-odds all equal after pass 4
   // Hits (end voxels in range) by merged block: hit_list_[hit_start_[b] ..
   // hit_start_[b + 1]) are block b's; hit_block_ and hit_cursor_ build it.
   std::vector<std::uint32_t> hit_list_, hit_block_, hit_cursor_, hit_start_;

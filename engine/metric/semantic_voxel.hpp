@@ -1,5 +1,8 @@
-// The metric map's default voxel payload: quantised occupancy log-odds and
-// evidence for every one of the six classes (no top-k approximation), 14 bytes.
+// What the metric map knows of a voxel: quantised occupancy log-odds and
+// evidence for every one of the six classes (no top-k approximation). The
+// map stores it compactly (semantic_block.hpp); a SemanticVoxel is the value
+// read from or written to one voxel, and a block's 512 of them in a row
+// (DenseVoxels, 14 bytes each) are what the .sarmap file and checkpoints hold.
 #pragma once
 
 #include <array>
@@ -7,6 +10,7 @@
 #include <limits>
 
 #include "engine/core/classes.hpp"
+#include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::metric {
 
@@ -28,5 +32,8 @@ struct SemanticVoxel {
   bool known() const { return log_odds != kUnknownLogOdds; }
 };
 static_assert(sizeof(SemanticVoxel) == 14);
+
+// A block's voxels in local index order (x + 8y + 64z).
+using DenseVoxels = std::array<SemanticVoxel, kBlockVoxels>;
 
 }  // namespace sarmap::metric

@@ -17,7 +17,7 @@ PointBuffer occupied_voxel_cloud(const MetricMap& map) {
   for (const BlockKey& bk : map.blocks().sorted_block_keys()) {
     const auto& block = *map.blocks().find(bk);
     for (int l = 0; l < kBlockVoxels; ++l) {
-      const SemanticVoxel& v = block.voxels[l];
+      const SemanticVoxel v = block.voxel(l);
       if (occ.state(v.log_odds) != VoxelState::Occupied) continue;
       const Eigen::Vector3d c = map.center_of(voxel_of(bk, l));
       cloud.push_back(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()));

@@ -224,7 +224,7 @@ bool Mapper::forgetting_due() const {
 
 bool Mapper::in_kept_block(double x, double y, double z) const {
   return metric::within_map_limits(x, y, z) &&
-         map_.blocks().voxel(metric::key_of(x, y, z, map_.inv_resolution())) != nullptr;
+         map_.blocks().find(metric::block_of(metric::key_of(x, y, z, map_.inv_resolution()))) != nullptr;
 }
 
 void Mapper::forget_dropped_regions() {

@@ -14,11 +14,13 @@ template <class Fn>
 void for_each_occupied(const metric::MetricMap& map, const metric::BlockKey& key,
                        const metric::MetricMap::Blocks::Block& block, Fn&& fn) {
   const metric::OccupancyModel& occupancy = map.occupancy();
+  // A block of one log-odds for all (unknown, or free space) holds nothing occupied, mostly.
+  if (block.uniform_occupancy() && occupancy.state(block.uniform_log_odds()) != metric::VoxelState::Occupied)
+    return;
   for (int local = 0; local < metric::kBlockVoxels; ++local) {
-    const metric::SemanticVoxel& v = block.voxels[local];
-    if (occupancy.state(v.log_odds) != metric::VoxelState::Occupied) continue;
+    if (occupancy.state(block.log_odds(local)) != metric::VoxelState::Occupied) continue;
     const metric::VoxelKey k = metric::voxel_of(key, local);
-    fn(Occupied{k.x, k.y, k.z, metric::LabelFusion::dominant(v.evidence)});
+    fn(Occupied{k.x, k.y, k.z, metric::LabelFusion::dominant(block.evidence(local))});
   }
 }
 

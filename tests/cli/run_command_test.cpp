@@ -170,10 +170,10 @@ TEST_F(RunCommand, WritesEveryOutput) {
             std::round(profile.at("latency").at("p95_s").get<double>() * 1e6) / 1e3);
   EXPECT_EQ(summary.at("metric_map").at("occupied_voxels").get<std::size_t>(), map.counts().occupied);
   EXPECT_EQ(summary.at("metric_map").at("free_voxels").get<std::size_t>(), map.counts().free);
-  // The map read back from map.sarmap allocates what the run's map did (it only grew).
+  // The map read back from map.sarmap is packed afresh: at most what the run's map allocates.
   EXPECT_EQ(summary.at("metric_map").at("bytes").get<double>(),
             profile.at("stages").at("metric").at("map_bytes"));
-  EXPECT_EQ(summary.at("metric_map").at("bytes").get<std::size_t>(), map.memory_bytes());
+  EXPECT_GE(summary.at("metric_map").at("bytes").get<std::size_t>(), map.memory_bytes());
   EXPECT_EQ(summary.at("semantic_points").get<std::size_t>(), 5u);
   EXPECT_EQ(summary.at("segments").at("count").get<int>(), 0);
   EXPECT_EQ(summary.at("topo_map").at("nodes").get<int>(), 0);

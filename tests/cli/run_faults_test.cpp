@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/metric/semantic_blocks.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
 
@@ -148,7 +149,11 @@ TEST_F(RunFaults, TheMapBlockBudgetDefaultsToHalfTheMemory) {
   const auto budget = manifest.at("config").at("bounds").at("max_blocks").get<std::size_t>();
   const std::size_t memory = static_cast<std::size_t>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGE_SIZE);
   EXPECT_GT(budget, 0u);
-  EXPECT_NEAR(static_cast<double>(budget) * (512 * 14 + 64), memory / 2.0, memory * 0.01);
+  // A block at its largest: its record, a slab of 512 log-odds, a row of
+  // evidence for every voxel and its share of the key table.
+  EXPECT_NEAR(static_cast<double>(budget) * metric::SemanticBlocks::kMaxBlockBytes, memory / 2.0,
+              memory * 0.01);
+  EXPECT_GT(metric::SemanticBlocks::kMaxBlockBytes, 512u * (2 + 12));
 }
 
 }  // namespace

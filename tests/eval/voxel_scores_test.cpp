@@ -21,9 +21,10 @@ MetricMap empty_map(double resolution) {
 }
 
 void set_voxel(MetricMap& map, const VoxelKey& k, bool occupied, ClassId cls = ClassId::Unknown) {
-  metric::SemanticVoxel& v = map.blocks().find_or_create(metric::block_of(k)).voxels[metric::local_index(k)];
+  metric::SemanticVoxel v = map.blocks().voxel(k).value_or(metric::SemanticVoxel{});
   v.log_odds = occupied ? map.occupancy().max() : map.occupancy().min();
   if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 500;
+  map.blocks().set_voxel(k, v);
 }
 
 void add_truth(sim::GroundTruthGrid& truth, const sim::VoxelKey& k, ClassId cls, bool observed) {

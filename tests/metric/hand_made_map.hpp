@@ -21,16 +21,17 @@ namespace sarmap::testing {
 inline metric::MetricMap hand_made_map() {
   metric::MetricMap map(metric::settings_at_resolution(0.1));
   const std::int16_t occupied = map.occupancy().max(), free = map.occupancy().min();
-  auto& a = map.blocks().find_or_create(metric::BlockKey{0, 0, 0});
+  const metric::BlockKey a{0, 0, 0}, b{-1, 2, 0};
   for (int l = 0; l < 12; ++l) {
-    a.voxels[l].log_odds = occupied;
-    if (l % 6 != 0) a.voxels[l].evidence[l % 6] = 200;
+    metric::SemanticVoxel v{occupied, {}};
+    if (l % 6 != 0) v.evidence[l % 6] = 200;
+    map.blocks().set_voxel(metric::voxel_of(a, l), v);
   }
-  for (int l = 100; l < 105; ++l) a.voxels[l].log_odds = free;
-  auto& b = map.blocks().find_or_create(metric::BlockKey{-1, 2, 0});
-  b.voxels[511].log_odds = occupied;
-  b.voxels[511].evidence[static_cast<std::size_t>(ClassId::Wall)] = 200;
-  b.voxels[0].log_odds = free;
+  for (int l = 100; l < 105; ++l) map.blocks().set_voxel(metric::voxel_of(a, l), {free, {}});
+  metric::SemanticVoxel wall{occupied, {}};
+  wall.evidence[static_cast<std::size_t>(ClassId::Wall)] = 200;
+  map.blocks().set_voxel(metric::voxel_of(b, 511), wall);
+  map.blocks().set_voxel(metric::voxel_of(b, 0), {free, {}});
   return map;
 }
 

@@ -19,7 +19,7 @@ namespace {
 // Blocks of 0.4 m at 0.05 m voxels; block (i, 0, 0) has its centre at x = 0.4 i + 0.2.
 MetricMap map_with_blocks(const std::vector<BlockKey>& keys) {
   MetricMap map(settings_at_resolution(0.05));
-  for (const BlockKey& k : keys) map.blocks().find_or_create(k).voxels[0].log_odds = 100;
+  for (const BlockKey& k : keys) map.blocks().set_voxel(voxel_of(k, 0), {100, {}});
   return map;
 }
 

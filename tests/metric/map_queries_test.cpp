@@ -82,14 +82,13 @@ TEST(MapQueries, BoxIterationAndFrontiers) {
 
 TEST(CoarseView, AnyOccupiedChildMakesTheParentOccupiedWithSummedClass) {
   MetricMap map(settings_at_resolution(0.05));
-  auto& access = map.blocks();
-  auto& block = access.find_or_create(BlockKey{0, 0, 0});
+  auto& blocks = map.blocks();
   // Coarse (x2) voxel (0,0,0) covers voxels 0..1 on each axis.
-  block.voxels[local_index({0, 0, 0})] = {map.occupancy().min(), {}};
-  block.voxels[local_index({1, 0, 0})] = {map.occupancy().max(), {0, 0, 300, 0, 0, 0}};
-  block.voxels[local_index({1, 1, 0})] = {map.occupancy().max(), {0, 200, 0, 0, 0, 0}};
-  block.voxels[local_index({0, 1, 1})] = {map.occupancy().max(), {0, 200, 0, 0, 0, 0}};
-  block.voxels[local_index({2, 0, 0})] = {map.occupancy().min(), {}};
+  blocks.set_voxel({0, 0, 0}, {map.occupancy().min(), {}});
+  blocks.set_voxel({1, 0, 0}, {map.occupancy().max(), {0, 0, 300, 0, 0, 0}});
+  blocks.set_voxel({1, 1, 0}, {map.occupancy().max(), {0, 200, 0, 0, 0, 0}});
+  blocks.set_voxel({0, 1, 1}, {map.occupancy().max(), {0, 200, 0, 0, 0, 0}});
+  blocks.set_voxel({2, 0, 0}, {map.occupancy().min(), {}});
   const CoarseView view(map, 2);
   EXPECT_DOUBLE_EQ(view.resolution(), 0.1);
   const CoarseVoxel v = view.voxel({0, 0, 0});

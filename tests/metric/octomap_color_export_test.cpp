@@ -62,8 +62,8 @@ void expect_same_map(const MetricMap& map, const octomap::ColorOcTree& tree) {
           ASSERT_TRUE(ours.has_value());
           EXPECT_EQ(*ours, (VoxelKey{key[0] - kOffset, key[1] - kOffset, key[2] - kOffset}));
           EXPECT_NEAR((centre - map.center_of(*ours)).norm(), 0.0, 1e-9 * res);
-          const SemanticVoxel* v = map.blocks().voxel(*ours);
-          ASSERT_NE(v, nullptr);
+          const std::optional<SemanticVoxel> v = map.blocks().voxel(*ours);
+          ASSERT_TRUE(v.has_value());
           ASSERT_TRUE(v->known());
           EXPECT_EQ(it->getLogOdds(), static_cast<float>(v->log_odds / kLogOddsScale));
           EXPECT_EQ(tree.isNodeOccupied(*it), map.state(*ours) == VoxelState::Occupied);
@@ -91,10 +91,9 @@ void expect_inner_nodes_as_octomap_computes(octomap::ColorOcTree& tree) {
 }
 
 void set_voxel(MetricMap& map, const VoxelKey& k, std::int16_t log_odds, ClassId cls) {
-  SemanticVoxel& v = map.blocks().find_or_create(block_of(k)).voxels[local_index(k)];
-  v.log_odds = log_odds;
-  v.evidence = {};
+  SemanticVoxel v{log_odds, {}};
   if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 300;
+  map.blocks().set_voxel(k, v);
 }
 
 TEST(OctomapColorExport, HandMadeMapReadsBackVoxelByVoxel) {

@@ -29,7 +29,7 @@ void expect_same_states(const MetricMap& map, const octomap::OcTree& tree) {
   std::size_t checked = 0;
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
     for (int l = 0; l < kBlockVoxels; ++l) {
-      if (!block.voxels[l].known()) continue;
+      if (!block.known(l)) continue;
       const VoxelKey k = voxel_of(bk, l);
       const octomap::OcTreeNode* node = tree.search(octo_key(k));
       ASSERT_NE(node, nullptr);
@@ -87,8 +87,8 @@ TEST(OctomapExport, OctomapReadsTheFileBackVoxelByVoxel) {
 
 TEST(OctomapExport, PrunesAFullUniformBlockToOneLeaf) {
   MetricMap map(settings_at_resolution(0.05));
-  auto& block = map.blocks().find_or_create(BlockKey{0, 0, 0});
-  for (auto& v : block.voxels) v.log_odds = map.occupancy().max();
+  for (int l = 0; l < kBlockVoxels; ++l)
+    map.blocks().set_voxel(voxel_of(BlockKey{0, 0, 0}, l), {map.occupancy().max(), {}});
   std::istringstream in(octomap_binary(map));
   octomap::OcTree tree(0.05);
   ASSERT_TRUE(tree.readBinary(in));
@@ -105,7 +105,7 @@ TEST(OctomapExport, EmptyMapAndMapsBeyondSixteenBitKeys) {
 
   MetricMap far(settings_at_resolution(0.01));
   // Voxel 40000 at 0.01 m is 400 m away: beyond OctoMap's +-327.68 m at this resolution.
-  far.blocks().find_or_create(block_of(VoxelKey{40000, 0, 0})).voxels[0].log_odds = 100;
+  far.blocks().set_voxel(voxel_of(block_of(VoxelKey{40000, 0, 0}), 0), {100, {}});
   try {
     octomap_binary(far);
     FAIL() << "expected an error";
@@ -136,7 +136,7 @@ TEST(OctomapAgreement, SameScansGiveTheSameStatesOnNinetyNinePercent) {
     std::size_t either = 0, agree = 0;
     map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
       for (int l = 0; l < kBlockVoxels; ++l) {
-        if (!block.voxels[l].known()) continue;
+        if (!block.known(l)) continue;
         const VoxelKey k = voxel_of(bk, l);
         const octomap::OcTreeNode* node = tree.search(octo_key(k));
         ++either;

@@ -24,8 +24,7 @@ bool maps_identical(const MetricMap& a, const MetricMap& b) {
   const auto ka = a.blocks().sorted_block_keys(), kb = b.blocks().sorted_block_keys();
   if (ka != kb) return false;
   for (const BlockKey& k : ka) {
-    const auto& va = a.blocks().find(k)->voxels;
-    const auto& vb = b.blocks().find(k)->voxels;
+    const DenseVoxels va = a.blocks().find(k)->dense(), vb = b.blocks().find(k)->dense();
     if (std::memcmp(va.data(), vb.data(), sizeof(va)) != 0) return false;
   }
   return true;

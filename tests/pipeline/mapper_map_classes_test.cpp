@@ -174,7 +174,7 @@ TEST(MapperMapClasses, ABoundedMapForgetsLabelledPointsWithItsBlocks) {
   for (std::uint32_t p = 0; p < map.size(); ++p) {
     const auto key = metric::key_of(map.points().x()[p], map.points().y()[p], map.points().z()[p],
                                     mapper.metric_map().inv_resolution());
-    EXPECT_NE(mapper.metric_map().blocks().voxel(key), nullptr) << p;
+    EXPECT_TRUE(mapper.metric_map().blocks().voxel(key).has_value()) << p;
   }
   if (mapper.blocks_dropped() > 0) {
     EXPECT_GT(mapper.profile().counter("classify", "map_points_forgotten"), 0.0);

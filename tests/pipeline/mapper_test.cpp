@@ -198,7 +198,7 @@ TEST(Mapper, BoundedMapForgetsSegmentAndKeptPointsWithItsBlocks) {
   small.forget_dropped_regions();
   const metric::MetricMap& map = small.metric_map();
   const auto held = [&](double x, double y, double z) {
-    return map.blocks().voxel(metric::key_of(x, y, z, map.inv_resolution())) != nullptr;
+    return map.blocks().voxel(metric::key_of(x, y, z, map.inv_resolution())).has_value();
   };
   const PointBuffer& kept = small.semantic_points();
   ASSERT_GT(kept.size(), 0u);

@@ -29,11 +29,9 @@ inline std::vector<Solid> world_solids() {
 }
 
 inline void set_voxel(metric::MetricMap& map, const Eigen::Vector3d& p, bool occupied, ClassId label) {
-  metric::MetricMap::Blocks::Accessor access(map.blocks());
-  metric::SemanticVoxel& v = access.get_or_create(*map.key_at(p));
-  v.log_odds = occupied ? map.occupancy().max() : map.occupancy().min();
-  v.evidence = {};
+  metric::SemanticVoxel v{occupied ? map.occupancy().max() : map.occupancy().min(), {}};
   if (occupied) v.evidence[static_cast<std::size_t>(label)] = 1000;
+  map.blocks().set_voxel(*map.key_at(p), v);
 }
 
 inline metric::MetricMap world_map() {

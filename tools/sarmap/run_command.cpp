@@ -140,9 +140,9 @@ void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>
 std::size_t default_max_blocks() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page_bytes = ::sysconf(_SC_PAGE_SIZE);
   if (pages <= 0 || page_bytes <= 0) return 0;
-  // A block's voxels plus its hash-table node and pointer.
-  constexpr std::size_t kBytesPerBlock = sizeof(metric::MetricMap::Blocks::Block) + 64;
-  return static_cast<std::size_t>(pages) / 2 * static_cast<std::size_t>(page_bytes) / kBytesPerBlock;
+  // Blocks at their largest, so that the budget holds whatever they hold.
+  return static_cast<std::size_t>(pages) / 2 * static_cast<std::size_t>(page_bytes) /
+         metric::SemanticBlocks::kMaxBlockBytes;
 }
 
 RunSummary run_pipeline(const RunOptions& o) {

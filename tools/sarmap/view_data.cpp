@@ -108,8 +108,7 @@ Json free_layer(const fs::path& file, std::size_t budget) {
   for (const metric::BlockKey& bk : map.blocks().sorted_block_keys()) {
     const auto& block = *map.blocks().find(bk);
     for (int local = 0; local < metric::kBlockVoxels; ++local) {
-      const metric::SemanticVoxel& v = block.voxels[local];
-      if (v.known() && map.occupancy().state(v.log_odds) == metric::VoxelState::Free) {
+      if (map.occupancy().state(block.log_odds(local)) == metric::VoxelState::Free) {
         free.push_back(metric::voxel_of(bk, local));
       }
     }
