@@ -14,12 +14,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <tbb/global_control.h>
 
 #include "bench/metric/sequence_fixture.hpp"
 #include "engine/metric/ray_integrator.hpp"
+#include "kernels/simd_level.hpp"
 
 namespace {
 
@@ -150,4 +152,14 @@ BENCHMARK(BM_Sarmap<Feed::Sequence>)->Name("BM_SarmapSequence_640")->ArgNames({"
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The SIMD level the walk and the key kernel ran at (SARMAP_SIMD forces
+// one) goes into the run's context, so a figure carries it.
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::AddCustomContext("simd_level",
+                              std::string(sarmap::kernels::to_string(sarmap::kernels::active_simd_level())));
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
