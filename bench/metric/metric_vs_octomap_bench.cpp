@@ -5,8 +5,9 @@
 // 320 x 240 and 640 x 480. Each iteration maps all 160 frames into a
 // fresh map; each case runs three times and reports the fastest too.
 // Memory, after the last frame: OctoMap's memoryUsage(); sarmap's map as it
-// counts its own allocations (MetricMap::memory_bytes: block storage, hash
-// table, per-block overhead), and apart from it the integrator's scratch
+// counts its own allocations (MetricMap::memory_bytes: block records and
+// their hash table, log-odds slabs, evidence rows, each also on its own),
+// and apart from it the integrator's scratch
 // (RayIntegrator::scratch_bytes), which a map does not keep. PERF.md states
 // what each counts.
 #include <benchmark/benchmark.h>
@@ -93,6 +94,7 @@ void BM_Sarmap(benchmark::State& state) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   sarmap::metric::IntegrationStats stats;
   std::size_t known = 0, bytes = 0, scratch = 0;
+  sarmap::metric::SemanticBlocks::Memory parts;
   sarmap::metric::RayIntegrator integrator;
   for (auto _ : state) {
     sarmap::metric::MetricMap map(sarmap::metric::settings_at_resolution(res));
@@ -105,6 +107,7 @@ void BM_Sarmap(benchmark::State& state) {
     state.PauseTiming();
     known = map.counts().known;
     bytes = map.memory_bytes();
+    parts = map.blocks().memory();
     scratch = integrator.scratch_bytes();
     state.ResumeTiming();
   }
@@ -118,6 +121,10 @@ void BM_Sarmap(benchmark::State& state) {
   state.counters["bytes_per_known_voxel"] = static_cast<double>(bytes) / static_cast<double>(known);
   state.counters["memory_MB"] = static_cast<double>(bytes) / 1e6;
   state.counters["scratch_MB"] = static_cast<double>(scratch) / 1e6;
+  // The map's parts: block records with their key table, log-odds slabs, class evidence.
+  state.counters["records_MB"] = static_cast<double>(parts.records + parts.index) / 1e6;
+  state.counters["log_odds_MB"] = static_cast<double>(parts.log_odds) / 1e6;
+  state.counters["evidence_MB"] = static_cast<double>(parts.evidence) / 1e6;
 }
 
 // Each case runs three times and reports the fastest as "_min" besides the

@@ -70,13 +70,14 @@ class BlockMap {
   // Drops every block and frees all storage.
   void clear() { *this = BlockMap(); }
 
-  // Bytes the map allocates: the pages of records (unused slots of the last
-  // page included), the page list, and the key index's slots and keys. The
-  // index keeps the size it grew to when blocks are dropped.
-  std::size_t memory_bytes() const {
-    return sizeof(*this) + pages_.size() * kPageBlocks * sizeof(Record) + capacity_bytes(pages_) +
-           index_.memory_bytes();
+  // Bytes the map allocates: record_bytes() and index_bytes() and the map object.
+  std::size_t memory_bytes() const { return sizeof(*this) + record_bytes() + index_bytes(); }
+  // The pages of records (unused slots of the last page included) and the page list.
+  std::size_t record_bytes() const {
+    return pages_.size() * kPageBlocks * sizeof(Record) + capacity_bytes(pages_);
   }
+  // The key index's slots and keys; it keeps the size it grew to when blocks are dropped.
+  std::size_t index_bytes() const { return index_.memory_bytes(); }
 
   // Calls fn(BlockKey, Record&) for every block in unspecified order.
   template <class Fn>

@@ -61,11 +61,21 @@ class SemanticBlocks {
   static bool uniform_slab(const Block& block);
   void settle(Block& block, bool uniform);
 
-  // Bytes the blocks allocate: the records and their key index, the log-odds
-  // slabs and the evidence rows (pool pages, free chunks included).
+  // What the blocks allocate, by part (pool pages counted whole, free chunks
+  // included); memory_bytes() is their sum and the object itself.
+  struct Memory {
+    std::size_t records = 0;   // block records, in pages
+    std::size_t index = 0;     // the hash table from block keys to records
+    std::size_t log_odds = 0;  // slabs of blocks whose log-odds are not uniform
+    std::size_t evidence = 0;  // rows of class evidence
+  };
+  Memory memory() const {
+    return {blocks_.record_bytes(), blocks_.index_bytes(), occupancy_.memory_bytes(),
+            evidence_.memory_bytes()};
+  }
   std::size_t memory_bytes() const {
-    return sizeof(*this) - sizeof(blocks_) + blocks_.memory_bytes() + occupancy_.memory_bytes() +
-           evidence_.memory_bytes();
+    const Memory m = memory();
+    return sizeof(*this) + m.records + m.index + m.log_odds + m.evidence;
   }
   // Log-odds slabs in use: blocks whose occupancy is not uniform.
   std::size_t slabs_in_use() const { return occupancy_.chunks_in_use(); }

@@ -47,6 +47,13 @@ TEST(MapMemory, CountsEveryBlockItsSlabItsRowsAndTheTableThatFindsThem) {
   const std::size_t bytes = blocks.memory_bytes();
   EXPECT_GT(bytes, held + empty);  // the key table, pages and chunk classes cost something
   EXPECT_LT(bytes - held, held * 6 / 100) << "more than 6 % beyond what the blocks hold";
+  // By part: each holds at least what it stores, and they add up.
+  const Blocks::Memory parts = blocks.memory();
+  EXPECT_GE(parts.records, 4096 * sizeof(Blocks::Block));
+  EXPECT_GE(parts.index, 4096 * sizeof(std::uint64_t));
+  EXPECT_GE(parts.log_odds, 4096 * kBlockVoxels * sizeof(std::int16_t));
+  EXPECT_GE(parts.evidence, 4096 * 4 * sizeof(ClassEvidence));  // three rows in a chunk of four
+  EXPECT_EQ(parts.records + parts.index + parts.log_odds + parts.evidence + sizeof(Blocks), bytes);
 }
 
 void expect_scratch_apart_from_the_map() {
