@@ -184,20 +184,15 @@ void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const
         log_odds[l] = occ.add(log_odds[l], occ.miss());
         free = occ.state(log_odds[l]) == VoxelState::Free;
       }
-      if (!free) continue;
-      if (ClassEvidence* row = block.evidence_row(l)) {
-        fusion.decay(*row);
-        if (no_evidence(*row)) block.put_evidence(l, ClassEvidence{});
-      }
+      if (!free || !block.holds_evidence(l)) continue;
+      block.change_evidence(l, [&](ClassEvidence& evidence) { fusion.decay(evidence); });
     }
   }
   for (std::size_t h = hit_start_[b]; h != hit_start_[b + 1]; ++h) {
     const std::uint32_t u = hit_list_[h];
     const int l = local_index(end_keys[u]);
     log_odds[l] = occ.add(log_odds[l], occ.hit());
-    ClassEvidence evidence = block.evidence(l);
-    fusion.observe(evidence, observations[u]);
-    block.put_evidence(l, evidence);
+    block.change_evidence(l, [&](ClassEvidence& evidence) { fusion.observe(evidence, observations[u]); });
   }
 }
 

@@ -58,25 +58,17 @@ class SemanticBlock {
 
   // Sets voxel l's evidence: a row updated, added (there must be room:
   // row_count() < row_capacity()) or, for all-zero evidence, removed.
-  void put_evidence(int l, const ClassEvidence& e) {
+  void put_evidence(int l, const ClassEvidence& e) { put_evidence(l, row_of(l), e); }
+  // Calls change(ClassEvidence&) on voxel l's evidence (zeros without a row)
+  // and puts the result, finding the voxel's row once: the integrator's
+  // hits and decays.
+  template <class Change>
+  void change_evidence(int l, Change&& change) {
     const std::size_t r = row_of(l);
-    if (holds_evidence(l)) {
-      if (no_evidence(e)) {
-        remove_row(l, r);
-      } else {
-        rows_[r] = e;
-      }
-      return;
-    }
-    if (no_evidence(e)) return;
-    std::memmove(rows_ + r + 1, rows_ + r, (row_count_ - r) * sizeof(ClassEvidence));
-    rows_[r] = e;
-    ++row_count_;
-    has_evidence_[l >> 6] |= std::uint64_t{1} << (l & 63);
+    ClassEvidence e = holds_evidence(l) ? rows_[r] : ClassEvidence{};
+    change(e);
+    put_evidence(l, r, e);
   }
-  // Voxel l's row, to change in place, or null; a row left all zero must be
-  // removed (put_evidence with zeros).
-  ClassEvidence* evidence_row(int l) { return holds_evidence(l) ? rows_ + row_of(l) : nullptr; }
 
   // Every voxel in local index order.
   DenseVoxels dense() const {
@@ -98,6 +90,22 @@ class SemanticBlock {
     for (int w = 0; w < (l >> 6); ++w) r += static_cast<std::size_t>(std::popcount(has_evidence_[w]));
     return r + static_cast<std::size_t>(
                    std::popcount(has_evidence_[l >> 6] & ((std::uint64_t{1} << (l & 63)) - 1)));
+  }
+  // put_evidence with voxel l's row index r (row_of(l)).
+  void put_evidence(int l, std::size_t r, const ClassEvidence& e) {
+    if (holds_evidence(l)) {
+      if (no_evidence(e)) {
+        remove_row(l, r);
+      } else {
+        rows_[r] = e;
+      }
+      return;
+    }
+    if (no_evidence(e)) return;
+    std::memmove(rows_ + r + 1, rows_ + r, (row_count_ - r) * sizeof(ClassEvidence));
+    rows_[r] = e;
+    ++row_count_;
+    has_evidence_[l >> 6] |= std::uint64_t{1} << (l & 63);
   }
   void remove_row(int l, std::size_t r) {
     std::memmove(rows_ + r, rows_ + r + 1, (row_count_ - r - 1) * sizeof(ClassEvidence));
