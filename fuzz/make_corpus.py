@@ -100,15 +100,31 @@ def npy(shape, values, version=(1, 0), descr="<f4", fortran=False):
 
 
 # --- map.sarmap (without its trailing CRC: map_file_fuzz.cpp appends it) ----
-def sarmap_map(blocks):
-    head = b"SARMAPVX" + struct.pack("<I", 1) + struct.pack("<d", 0.05) + bytes([1, 1]) + struct.pack("<H", 14)
-    head += struct.pack("<8d", 0.7, 0.4, 0.12, 0.97, 0.5, 0.9, 20.0, 0.5)
+def sarmap_map(blocks, version=2):
+    """blocks: [(key, voxels)], voxels(v) -> (log_odds, evidence[6])."""
+    head = b"SARMAPVX" + struct.pack("<I", version) + struct.pack("<d", 0.05) + bytes([1, version])
+    head += struct.pack("<H", 14) + struct.pack("<8d", 0.7, 0.4, 0.12, 0.97, 0.5, 0.9, 20.0, 0.5)
     head += struct.pack("<Q", len(blocks))
     for key, voxels in blocks:
+        values = [voxels(v) for v in range(512)]
         head += struct.pack("<3i", *key)
-        for v in range(512):
-            log_odds, evidence = voxels(v)
-            head += struct.pack("<h6h", log_odds, *evidence)
+        if version == 1:
+            for log_odds, evidence in values:
+                head += struct.pack("<h6h", log_odds, *evidence)
+            continue
+        log_odds = [lo for lo, _ in values]
+        if len(set(log_odds)) == 1:
+            head += bytes([0]) + struct.pack("<h", log_odds[0])
+        else:
+            head += bytes([1]) + struct.pack("<512h", *log_odds)
+        mask = [0] * 8
+        for v, (_, evidence) in enumerate(values):
+            if any(evidence):
+                mask[v // 64] |= 1 << (v % 64)
+        head += struct.pack("<8Q", *mask)
+        for _, evidence in values:
+            if any(evidence):
+                head += struct.pack("<6h", *evidence)
     return head
 
 
@@ -183,9 +199,13 @@ def main():
     put("depth_png", "gray8_3x2.png", png(3, 2, [10, 20, 30], bit_depth=8))
     put("depth_png", "rgb16_2x2.png", png(2, 2, [100, 200], color_type=2))
 
+    mixed_block = ((1, -2, 0), lambda v: (
+        (-32768, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [256, -128, 0, 0, 512, 0])))
     put("map_file", "empty_map.bin", sarmap_map([]))
-    put("map_file", "one_block.bin", sarmap_map([((1, -2, 0), lambda v: (
-        (-32768, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [256, -128, 0, 0, 512, 0])))]))
+    put("map_file", "one_block.bin", sarmap_map([mixed_block]))
+    put("map_file", "uniform_and_mixed_blocks.bin", sarmap_map([
+        ((0, 0, 0), lambda v: (-2000, [0] * 6)), mixed_block]))
+    put("map_file", "version_1_one_block.bin", sarmap_map([mixed_block], version=1))
 
     ros_messages()
 

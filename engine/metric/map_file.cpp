@@ -1,5 +1,7 @@
 #include "engine/metric/map_file.hpp"
 
+#include <array>
+#include <bit>
 #include <cctype>
 #include <cstring>
 #include <fstream>
@@ -11,16 +13,26 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/metric/semantic_block.hpp"
 
 namespace sarmap::metric {
 
 namespace {
 
 constexpr char kMagic[8] = {'S', 'A', 'R', 'M', 'A', 'P', 'V', 'X'};
-constexpr std::uint8_t kPayloadLayout = 1;  // i16 log_odds + i16 evidence[6]
+// A voxel's values are i16 log_odds + i16 evidence[6] in both layouts:
+// version 1 stores them for every voxel (dense), version 2 compactly.
+constexpr std::uint8_t kDenseLayout = 1;
+constexpr std::uint8_t kCompactLayout = 2;
 constexpr std::uint16_t kPayloadBytes = 14;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 1 + 1 + 2 + 8 * 8 + 8;
-constexpr std::size_t kBlockBytes = 12 + kBlockVoxels * kPayloadBytes;
+constexpr std::size_t kDenseBlockBytes = 12 + kBlockVoxels * kPayloadBytes;
+constexpr std::size_t kMaskWords = kBlockVoxels / 64;
+constexpr std::size_t kRowBytes = kClassCount * 2;
+// A compact block: key, occupancy kind, then one log-odds or 512.
+constexpr std::uint8_t kUniformOccupancy = 0;
+constexpr std::uint8_t kPerVoxelOccupancy = 1;
+constexpr std::size_t kCompactBlockMinBytes = 12 + 1 + 2 + kMaskWords * 8;
 
 // Little-endian encoding, independent of the host's byte order.
 class Encoder {
@@ -83,6 +95,65 @@ std::uint32_t crc_of(const char* data, std::size_t size, std::uint32_t crc = 0) 
   return crc;
 }
 
+
+// The block as version 2 stores it. Uniformity and which voxels hold a row
+// are read from the values, not from how the block happens to be stored.
+void encode_compact_block(Encoder& out, const BlockKey& key, const SemanticBlock& block) {
+  out.i32(key.x);
+  out.i32(key.y);
+  out.i32(key.z);
+  bool uniform = true;
+  for (int l = 1; l < kBlockVoxels && uniform; ++l) uniform = block.log_odds(l) == block.log_odds(0);
+  if (uniform) {
+    out.u8(kUniformOccupancy);
+    out.i16(block.log_odds(0));
+  } else {
+    out.u8(kPerVoxelOccupancy);
+    for (int l = 0; l < kBlockVoxels; ++l) out.i16(block.log_odds(l));
+  }
+  const DenseVoxels voxels = block.dense();
+  std::array<std::uint64_t, kMaskWords> mask{};
+  for (int l = 0; l < kBlockVoxels; ++l) {
+    if (!no_evidence(voxels[l].evidence)) mask[l >> 6] |= std::uint64_t{1} << (l & 63);
+  }
+  for (std::uint64_t word : mask) out.u64(word);
+  for (int l = 0; l < kBlockVoxels; ++l) {
+    if ((mask[l >> 6] >> (l & 63)) & 1u) {
+      for (std::int16_t e : voxels[l].evidence) out.i16(e);
+    }
+  }
+}
+
+// Walks `count` compact blocks from `at` by their sizes alone, without
+// reading values: where they end, or where the bytes before `end` run out,
+// or where a block names an occupancy kind that does not exist (whose
+// size is then unknown).
+struct CompactWalk {
+  enum class Outcome { Ends, RunsOut, UnknownOccupancy } outcome;
+  std::size_t at;  // the end, or the block (RunsOut) or byte (UnknownOccupancy) where it stopped
+};
+CompactWalk walk_compact_blocks(const std::string& data, std::size_t at, std::size_t end, std::uint64_t count) {
+  for (std::uint64_t b = 0; b < count; ++b) {
+    const std::size_t block_at = at;
+    if (end - at < 13) return {CompactWalk::Outcome::RunsOut, block_at};
+    const auto kind = static_cast<std::uint8_t>(data[at + 12]);
+    if (kind != kUniformOccupancy && kind != kPerVoxelOccupancy) {
+      return {CompactWalk::Outcome::UnknownOccupancy, at + 12};
+    }
+    at += 13;
+    const std::size_t occupancy_bytes = kind == kUniformOccupancy ? 2 : kBlockVoxels * 2;
+    if (end - at < occupancy_bytes + kMaskWords * 8) return {CompactWalk::Outcome::RunsOut, block_at};
+    at += occupancy_bytes;
+    Decoder mask(data, at);
+    std::size_t rows = 0;
+    for (std::size_t w = 0; w < kMaskWords; ++w) rows += static_cast<std::size_t>(std::popcount(mask.u64()));
+    at += kMaskWords * 8;
+    if (end - at < rows * kRowBytes) return {CompactWalk::Outcome::RunsOut, block_at};
+    at += rows * kRowBytes;
+  }
+  return {CompactWalk::Outcome::Ends, at};
+}
+
 }  // namespace
 
 bool is_map_file_path(const std::filesystem::path& path) {
@@ -99,7 +170,7 @@ void save_map(const MetricMap& map, const std::filesystem::path& path) {
   header.u32(kMapFileVersion);
   header.f64(s.resolution);
   header.u8(static_cast<std::uint8_t>(s.fusion.fusion));
-  header.u8(kPayloadLayout);
+  header.u8(kCompactLayout);
   header.u16(kPayloadBytes);
   for (double v : {s.occupancy.prob_hit, s.occupancy.prob_miss, s.occupancy.clamp_min, s.occupancy.clamp_max,
                    s.occupancy.occupied_threshold, s.fusion.label_confidence, s.fusion.evidence_clamp,
@@ -113,13 +184,7 @@ void save_map(const MetricMap& map, const std::filesystem::path& path) {
   Encoder block;
   for (const BlockKey& k : keys) {
     block.bytes.clear();
-    block.i32(k.x);
-    block.i32(k.y);
-    block.i32(k.z);
-    for (const SemanticVoxel& v : map.blocks().find(k)->dense()) {
-      block.i16(v.log_odds);
-      for (std::int16_t e : v.evidence) block.i16(e);
-    }
+    encode_compact_block(block, k, *map.blocks().find(k));
     crc = crc_of(block.bytes.data(), block.bytes.size(), crc);
     out.write(block.bytes);
   }
@@ -129,7 +194,9 @@ void save_map(const MetricMap& map, const std::filesystem::path& path) {
   out.commit();
 }
 
-MetricMap load_map(const std::filesystem::path& path) {
+MetricMap load_map(const std::filesystem::path& path) { return read_map_file(path).map; }
+
+MapFile read_map_file(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -149,10 +216,11 @@ MetricMap load_map(const std::filesystem::path& path) {
   if (std::memcmp(data.data(), kMagic, 8) != 0) throw fail(0, "not a sarmap metric map (magic \"SARMAPVX\" missing)");
   Decoder d(data, 8);
   const std::uint32_t version = d.u32();
-  if (version != kMapFileVersion) {
-    throw fail(8, "unsupported version " + std::to_string(version) + " (this build reads version " +
+  if (version != 1 && version != kMapFileVersion) {
+    throw fail(8, "unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
                       std::to_string(kMapFileVersion) + ")");
   }
+  const std::uint8_t expected_layout = version == 1 ? kDenseLayout : kCompactLayout;
   MetricMapSettings s;
   s.resolution = d.f64();
   const std::size_t fusion_at = d.offset();
@@ -162,9 +230,10 @@ MetricMap load_map(const std::filesystem::path& path) {
   const std::size_t layout_at = d.offset();
   const std::uint8_t layout = d.u8();
   const std::uint16_t payload = d.u16();
-  if (layout != kPayloadLayout || payload != kPayloadBytes) {
+  if (layout != expected_layout || payload != kPayloadBytes) {
     throw fail(layout_at, "unsupported voxel payload layout " + std::to_string(layout) + " of " +
-                              std::to_string(payload) + " bytes (expected layout 1 of 14 bytes)");
+                              std::to_string(payload) + " bytes (version " + std::to_string(version) +
+                              " expects layout " + std::to_string(expected_layout) + " of 14 bytes)");
   }
   s.occupancy.prob_hit = d.f64();
   s.occupancy.prob_miss = d.f64();
@@ -176,19 +245,41 @@ MetricMap load_map(const std::filesystem::path& path) {
   s.fusion.free_evidence_keep = d.f64();
   const std::size_t count_at = d.offset();
   const std::uint64_t count = d.u64();
-  const std::uint64_t max_blocks = (data.size() - kHeaderBytes - 4) / kBlockBytes;
-  if (count > max_blocks || kHeaderBytes + count * kBlockBytes + 4 != data.size()) {
-    const unsigned long long expected = count <= (1ull << 40) ? kHeaderBytes + count * kBlockBytes + 4 : 0;
-    throw fail(count_at, "header declares " + std::to_string(count) + " blocks, which take " +
-                             (expected ? std::to_string(expected) : std::string("more than 2^40")) +
-                             " bytes, but the file has " + std::to_string(data.size()) +
-                             (data.size() < expected ? " (truncated)" : " (trailing bytes)"));
+  const std::size_t blocks_end = data.size() - 4;
+  Decoder crc_reader(data, blocks_end);
+  const bool checksum_ok = crc_of(data.data(), blocks_end) == crc_reader.u32();
+  // The blocks' sizes first, so that a short file is called truncated, not corrupt.
+  if (version == 1) {
+    const std::uint64_t max_blocks = (blocks_end - kHeaderBytes) / kDenseBlockBytes;
+    if (count > max_blocks || kHeaderBytes + count * kDenseBlockBytes != blocks_end) {
+      const unsigned long long expected = count <= (1ull << 40) ? kHeaderBytes + count * kDenseBlockBytes + 4 : 0;
+      throw fail(count_at, "header declares " + std::to_string(count) + " blocks, which take " +
+                               (expected ? std::to_string(expected) : std::string("more than 2^40")) +
+                               " bytes, but the file has " + std::to_string(data.size()) +
+                               (data.size() < expected ? " (truncated)" : " (trailing bytes)"));
+    }
+  } else {
+    const std::uint64_t max_blocks = (blocks_end - kHeaderBytes) / kCompactBlockMinBytes;
+    if (count > max_blocks) {
+      throw fail(count_at, "header declares " + std::to_string(count) + " blocks, but the file's " +
+                               std::to_string(data.size()) + " bytes hold at most " + std::to_string(max_blocks) +
+                               " (truncated)");
+    }
+    const CompactWalk walk = walk_compact_blocks(data, kHeaderBytes, blocks_end, count);
+    if (walk.outcome == CompactWalk::Outcome::RunsOut) {
+      throw fail(walk.at, "truncated: the file ends inside one of the " + std::to_string(count) +
+                              " blocks its header declares");
+    }
+    if (checksum_ok && walk.outcome == CompactWalk::Outcome::UnknownOccupancy) {
+      throw fail(walk.at, "unknown block occupancy kind " + std::to_string(static_cast<unsigned char>(data[walk.at])) +
+                              " (expected 0, one value, or 1, one per voxel)");
+    }
+    if (walk.outcome == CompactWalk::Outcome::Ends && walk.at != blocks_end) {
+      throw fail(walk.at, "trailing bytes: the header's " + std::to_string(count) + " blocks end at byte " +
+                              std::to_string(walk.at) + " of " + std::to_string(blocks_end));
+    }
   }
-  Decoder crc_reader(data, data.size() - 4);
-  const std::uint32_t stored_crc = crc_reader.u32();
-  if (crc_of(data.data(), data.size() - 4) != stored_crc) {
-    throw fail(data.size() - 4, "checksum mismatch: the file is corrupt");
-  }
+  if (!checksum_ok) throw fail(blocks_end, "checksum mismatch: the file is corrupt");
   MetricMap map = [&] {
     try {
       return MetricMap(s);
@@ -197,6 +288,12 @@ MetricMap load_map(const std::filesystem::path& path) {
     }
   }();
   const OccupancyModel& occ = map.occupancy();
+  const auto check_log_odds = [&](std::int16_t v, std::size_t at) {
+    if (v != kUnknownLogOdds && (v < occ.min() || v > occ.max())) {
+      throw fail(at, "voxel log-odds " + std::to_string(v) + " outside the clamp range [" +
+                         std::to_string(occ.min()) + ", " + std::to_string(occ.max()) + "]");
+    }
+  };
   const std::int32_t max_block = static_cast<std::int32_t>((kMaxCoordinate / s.resolution) / kBlockEdge) + 1;
   for (std::uint64_t b = 0; b < count; ++b) {
     const std::size_t at = d.offset();
@@ -209,18 +306,40 @@ MetricMap load_map(const std::filesystem::path& path) {
     }
     if (map.blocks().find(key)) throw fail(at, "block stored twice");
     DenseVoxels voxels;
-    for (SemanticVoxel& v : voxels) {
-      const std::size_t voxel_at = d.offset();
-      v.log_odds = d.i16();
-      for (auto& e : v.evidence) e = d.i16();
-      if (v.log_odds != kUnknownLogOdds && (v.log_odds < occ.min() || v.log_odds > occ.max())) {
-        throw fail(voxel_at, "voxel log-odds " + std::to_string(v.log_odds) + " outside the clamp range [" +
-                                 std::to_string(occ.min()) + ", " + std::to_string(occ.max()) + "]");
+    if (version == 1) {
+      for (SemanticVoxel& v : voxels) {
+        const std::size_t voxel_at = d.offset();
+        v.log_odds = d.i16();
+        for (auto& e : v.evidence) e = d.i16();
+        check_log_odds(v.log_odds, voxel_at);
+      }
+    } else {
+      const bool uniform = d.u8() == kUniformOccupancy;
+      for (int l = 0; l < kBlockVoxels; ++l) {
+        if (uniform && l > 0) {
+          voxels[l].log_odds = voxels[0].log_odds;
+          continue;
+        }
+        const std::size_t voxel_at = d.offset();
+        voxels[l].log_odds = d.i16();
+        check_log_odds(voxels[l].log_odds, voxel_at);
+      }
+      std::array<std::uint64_t, kMaskWords> mask;
+      for (std::uint64_t& word : mask) word = d.u64();
+      for (int l = 0; l < kBlockVoxels; ++l) {
+        if (!((mask[l >> 6] >> (l & 63)) & 1u)) continue;
+        const std::size_t row_at = d.offset();
+        for (auto& e : voxels[l].evidence) e = d.i16();
+        if (no_evidence(voxels[l].evidence)) {
+          throw fail(row_at, "voxel " + std::to_string(l) + " of block (" + std::to_string(key.x) + ", " +
+                                 std::to_string(key.y) + ", " + std::to_string(key.z) +
+                                 ") has an all-zero evidence row (a voxel without evidence holds none)");
+        }
       }
     }
     map.blocks().assign(key, voxels);
   }
-  return map;
+  return {std::move(map), version};
 }
 
 }  // namespace sarmap::metric

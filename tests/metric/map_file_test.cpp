@@ -60,6 +60,35 @@ std::string load_error(const fs::path& p) {
   return "";
 }
 
+// Appends v little-endian in n bytes.
+void put_le(std::string& out, std::uint64_t v, int n) {
+  for (int i = 0; i < n; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+}
+// Replaces the trailing CRC-32 by that of the bytes before it.
+void reseal(std::string& file) {
+  const std::uint32_t crc = static_cast<std::uint32_t>(
+      crc32(0, reinterpret_cast<const Bytef*>(file.data()), static_cast<uInt>(file.size() - 4)));
+  for (int i = 0; i < 4; ++i) file[file.size() - 4 + i] = static_cast<char>((crc >> (8 * i)) & 0xff);
+}
+// The map as version 1 (every voxel stored) wrote it: the 96-byte header of
+// `compact` (a version 2 file of the same map) with version 1 and layout 1,
+// then dense blocks in the same order.
+std::string version_1_file(const MetricMap& map, const std::string& compact) {
+  std::string file = compact.substr(0, 96);
+  file[8] = 1;
+  file[21] = 1;  // payload layout, after magic, version, resolution and fusion
+  for (const BlockKey& k : map.blocks().sorted_block_keys()) {
+    for (std::int32_t c : {k.x, k.y, k.z}) put_le(file, static_cast<std::uint32_t>(c), 4);
+    for (const SemanticVoxel& v : map.blocks().find(k)->dense()) {
+      put_le(file, static_cast<std::uint16_t>(v.log_odds), 2);
+      for (std::int16_t e : v.evidence) put_le(file, static_cast<std::uint16_t>(e), 2);
+    }
+  }
+  file.append(4, '\0');
+  reseal(file);
+  return file;
+}
+
 TEST(MapFilePath, IsTheSarmapExtensionInAnyCase) {
   EXPECT_TRUE(is_map_file_path("run/map.sarmap"));
   EXPECT_TRUE(is_map_file_path("MAP.SarMap"));
@@ -85,6 +114,63 @@ TEST_F(MapFileTest, RoundTripIsExact) {
     save_map(back, dir_ / "again.sarmap");
     EXPECT_EQ(bytes_of(dir_ / "m.sarmap"), bytes_of(dir_ / "again.sarmap"));
   }
+}
+
+// Version 2 stores a block's log-odds once when all 512 agree and evidence
+// only where a voxel holds some; version 1 files load to the same map.
+TEST_F(MapFileTest, Version1FilesLoadToTheSameMap) {
+  for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
+    const MetricMap map = room_map(fusion);
+    save_map(map, dir_ / "m.sarmap");
+    const std::string compact = bytes_of(dir_ / "m.sarmap");
+    ASSERT_EQ(compact[8], 2);
+    const std::string dense = version_1_file(map, compact);
+    EXPECT_LT(compact.size() * 3, dense.size()) << "version 2 should be far smaller than version 1";
+    write_bytes(dir_ / "v1.sarmap", dense);
+    const MetricMap back = load_map(dir_ / "v1.sarmap");
+    EXPECT_EQ(read_map_file(dir_ / "v1.sarmap").version, 1u);
+    EXPECT_EQ(read_map_file(dir_ / "m.sarmap").version, 2u);
+    ASSERT_EQ(back.blocks().sorted_block_keys(), map.blocks().sorted_block_keys());
+    for (const BlockKey& k : map.blocks().sorted_block_keys()) {
+      const DenseVoxels ours = map.blocks().find(k)->dense(), read = back.blocks().find(k)->dense();
+      EXPECT_EQ(std::memcmp(read.data(), ours.data(), sizeof(ours)), 0);
+    }
+    // Saved again, it is written as version 2, byte for byte as the map itself.
+    save_map(back, dir_ / "again.sarmap");
+    EXPECT_EQ(bytes_of(dir_ / "again.sarmap"), compact);
+  }
+}
+
+// A block's bytes follow its values: uniform occupancy is one value, a
+// voxel's evidence a row only where it is not all zero.
+TEST_F(MapFileTest, CompactBlocksStoreWhatTheVoxelsHold) {
+  MetricMap map(settings_at_resolution(0.1));
+  DenseVoxels all_free;
+  for (SemanticVoxel& v : all_free) v.log_odds = map.occupancy().min();
+  map.blocks().assign({0, 0, 0}, all_free);
+  DenseVoxels mixed = all_free;
+  mixed[5].log_odds = map.occupancy().max();
+  mixed[5].evidence = {0, 0, 7, 0, 0, 0};
+  mixed[511].evidence = {1, 0, 0, 0, 0, -3};
+  map.blocks().assign({1, 0, 0}, mixed);
+  save_map(map, dir_ / "m.sarmap");
+  const std::string file = bytes_of(dir_ / "m.sarmap");
+  // Header, uniform block (key, kind, one value, mask), block with two rows, CRC.
+  EXPECT_EQ(file.size(), 96u + (12 + 1 + 2 + 64) + (12 + 1 + 1024 + 64 + 2 * 12) + 4);
+  const MetricMap back = load_map(dir_ / "m.sarmap");
+  for (const BlockKey& k : {BlockKey{0, 0, 0}, BlockKey{1, 0, 0}}) {
+    const DenseVoxels ours = map.blocks().find(k)->dense(), read = back.blocks().find(k)->dense();
+    EXPECT_EQ(std::memcmp(read.data(), ours.data(), sizeof(ours)), 0);
+  }
+  // A row of zeros where the mask says evidence is held (voxel 511's, the
+  // file's last row) is refused, not read as a second way to say "none".
+  std::string zero_row = file;
+  zero_row.replace(zero_row.size() - 4 - 12, 12, std::string(12, '\0'));
+  reseal(zero_row);
+  write_bytes(dir_ / "bad.sarmap", zero_row);
+  EXPECT_NE(load_error(dir_ / "bad.sarmap").find("voxel 511 of block (1, 0, 0) has an all-zero evidence row"),
+            std::string::npos)
+      << load_error(dir_ / "bad.sarmap");
 }
 
 TEST_F(MapFileTest, CorruptAndTruncatedFilesNameTheProblem) {
@@ -117,12 +203,34 @@ TEST_F(MapFileTest, CorruptAndTruncatedFilesNameTheProblem) {
   std::string far = good;
   const char int_min[4] = {0, 0, 0, static_cast<char>(0x80)};
   far.replace(96, 4, int_min, 4);
-  const std::uint32_t crc = static_cast<std::uint32_t>(
-      crc32(0, reinterpret_cast<const Bytef*>(far.data()), static_cast<uInt>(far.size() - 4)));
-  for (int i = 0; i < 4; ++i) far[far.size() - 4 + i] = static_cast<char>((crc >> (8 * i)) & 0xff);
+  reseal(far);
   write_bytes(bad, far);
   EXPECT_NE(load_error(bad).find("(-2147483648, "), std::string::npos) << load_error(bad);
   EXPECT_NE(load_error(bad).find("beyond the map limits"), std::string::npos) << load_error(bad);
+
+  // Behind a valid checksum: an occupancy kind that does not exist (the
+  // first block's, after its key), trailing bytes, more blocks than fit.
+  std::string kind = good;
+  kind[108] = 7;
+  reseal(kind);
+  write_bytes(bad, kind);
+  EXPECT_NE(load_error(bad).find("unknown block occupancy kind 7"), std::string::npos) << load_error(bad);
+  std::string trailing = good;
+  trailing.insert(trailing.size() - 4, "xx");
+  reseal(trailing);
+  write_bytes(bad, trailing);
+  EXPECT_NE(load_error(bad).find("trailing bytes"), std::string::npos) << load_error(bad);
+  std::string many = good;
+  many[95] = 0x10;  // the block count's top byte
+  reseal(many);
+  write_bytes(bad, many);
+  EXPECT_NE(load_error(bad).find("hold at most"), std::string::npos) << load_error(bad);
+  // A version 1 header with version 2's compact blocks.
+  std::string layout = good;
+  layout[8] = 1;
+  reseal(layout);
+  write_bytes(bad, layout);
+  EXPECT_NE(load_error(bad).find("version 1 expects layout 1"), std::string::npos) << load_error(bad);
 
   EXPECT_NE(load_error(dir_ / "missing.sarmap").find("cannot open"), std::string::npos);
   // Every message names the file.

@@ -82,7 +82,8 @@ void print_classes(const ClassCounts& counts) {
 std::string_view format_name(PointCloudFormat f) { return f == PointCloudFormat::Ply ? "ply" : "pcd"; }
 
 void map_info(const InfoArgs& a) {
-  const metric::MetricMap map = metric::load_map(a.path);
+  const metric::MapFile file = metric::read_map_file(a.path);
+  const metric::MetricMap& map = file.map;
   const metric::MapSummary s = metric::summarize_map(map);
   const std::string_view fusion = metric::to_string(map.settings().fusion.fusion);
   if (a.json) {
@@ -90,7 +91,7 @@ void map_info(const InfoArgs& a) {
     j["path"] = a.path;
     j["kind"] = "metric_map";
     j["format"] = "sarmap";
-    j["version"] = metric::kMapFileVersion;
+    j["version"] = file.version;
     j["resolution"] = map.resolution();
     j["class_fusion"] = fusion;
     j["blocks"] = s.counts.blocks;
@@ -101,7 +102,7 @@ void map_info(const InfoArgs& a) {
     return;
   }
   std::printf("file: %s\n", a.path.c_str());
-  std::printf("format: sarmap metric map (version %u)\n", metric::kMapFileVersion);
+  std::printf("format: sarmap metric map (version %u)\n", file.version);
   std::printf("resolution: %g m\n", map.resolution());
   std::printf("class fusion: %s\n", std::string(fusion).c_str());
   std::printf("blocks: %zu (8 x 8 x 8 voxels each)\n", s.counts.blocks);
