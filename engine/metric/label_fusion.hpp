@@ -79,6 +79,8 @@ class LabelFusion {
   }
   // The class with the most evidence (lowest id on ties); Unknown when none has any.
   static ClassId dominant(const ClassEvidence& evidence);
+  // Bayesian evidence stays within +-this, in evidence units (1/256 nat).
+  int evidence_clamp_units() const { return clamp_; }
 
  private:
   LabelFusionSettings settings_;
