@@ -25,6 +25,8 @@ from ._sarmap import (
     classify,
     open_sequence,
     read_cloud,
+    set_threads,
+    threads,
     write_cloud,
 )
 from ._data import data_dirs, shipped_arena, shipped_model
@@ -32,5 +34,6 @@ from ._scan import Scan
 
 __all__ = [
     "CLASS_NAMES", "FREE", "OCCUPIED", "UNKNOWN", "Mapper", "PointCloud", "Scan", "Sequence", "__version__",
-    "classify", "data_dirs", "open_sequence", "read_cloud", "shipped_arena", "shipped_model", "write_cloud",
+    "classify", "data_dirs", "open_sequence", "read_cloud", "set_threads", "shipped_arena", "shipped_model",
+    "threads", "write_cloud",
 ]

@@ -13,5 +13,6 @@ void bind_cloud(py::module_& m);     // cloud_bindings.cpp: PointCloud, read_clo
 void bind_sequence(py::module_& m);  // sequence_bindings.cpp: open_sequence
 void bind_mapper(py::module_& m);    // mapper_bindings.cpp: Mapper
 void bind_classify(py::module_& m);  // classify_bindings.cpp: classify
+void bind_threads(py::module_& m);   // thread_bindings.cpp: set_threads, threads
 
 }  // namespace sarmap::python

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <pybind11/stl.h>
 #include <nlohmann/json.hpp>
@@ -172,6 +173,57 @@ translation by default. Points with a NaN or infinite coordinate are dropped
 (counted in dropped_non_finite). A scan the Mapper refuses raises ValueError and
 leaves the maps as they were.)doc")
       .def(
+          "integrate_sequence",
+          [](PyMapper& self, Sequence& sequence, bool overlap) {
+            struct Skipped {
+              std::size_t frame;
+              std::string source, error;
+            };
+            std::vector<Skipped> skipped;
+            std::size_t mapped = 0;
+            locked(self, [&](PyMapper& m) {
+              // As `sarmap run` maps a sequence: its stages overlapped unless
+              // asked not to, a frame that cannot be read or a scan refused
+              // costing only itself (listed in the profile, the maps as they were).
+              sequence.rewind();
+              const auto read = [&](std::size_t, Scan& scan) { return sequence.next(scan); };
+              const auto done = [&](pipeline::StreamedScan& item) {
+                m.dropped_non_finite += item.scan.dropped_non_finite;
+                ++m.offered;
+                if (item.mapped) {
+                  ++mapped;
+                  return;
+                }
+                const std::string source =
+                    item.read_failed ? "frame " + std::to_string(item.frame) : item.scan.source;
+                m.mapper.profile().skip_scan(item.frame, source, item.error->what(), /*row_open=*/false);
+                skipped.push_back({item.frame, source, item.error->what()});
+              };
+              m.mapper.integrate_stream(0, read, done,
+                                        overlap ? pipeline::StageOverlap::On : pipeline::StageOverlap::Off);
+            });
+            py::dict result;
+            result["scans"] = mapped;
+            py::list listed;
+            for (const Skipped& s : skipped) {
+              py::dict d;
+              d["frame"] = s.frame;
+              d["source"] = s.source;
+              d["error"] = s.error;
+              listed.append(d);
+            }
+            result["skipped"] = listed;
+            return result;
+          },
+          py::arg("sequence"), py::kw_only(), py::arg("overlap") = true, R"doc(
+Maps every frame of a Sequence (open_sequence) from its first, as `sarmap run`
+does: with overlap=True the next scan is classified while the maps take this
+one (two scans in flight, the same maps as one at a time; overlap=False runs
+the stages in order). A frame that cannot be read, or a scan the Mapper
+refuses, costs only itself: it is listed in the profile and in the result, and
+the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
+"source", "error"}, ...]}. Runs without the GIL.)doc")
+      .def(
           "finish", [](PyMapper& self) { locked(self, [](PyMapper& m) { m.mapper.finish(); }); },
           "The scans have ended: the classifier of the accumulated map labels the blocks still waiting. Call "
           "it "
@@ -327,7 +379,8 @@ leaves the maps as they were.)doc")
       .def_property_readonly(
           "dropped_non_finite",
           [](PyMapper& self) { return locked(self, [](PyMapper& m) { return m.dropped_non_finite; }); },
-          "Points integrate() dropped for a NaN or infinite coordinate.")
+          "Points dropped for a NaN or infinite coordinate: by integrate(), and by the reader of the frames "
+          "integrate_sequence() mapped.")
       .def_property_readonly(
           "resolution",
           [](PyMapper& self) {

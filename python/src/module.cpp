@@ -26,4 +26,5 @@ PYBIND11_MODULE(_sarmap, m) {
   python::bind_sequence(m);
   python::bind_mapper(m);
   python::bind_classify(m);
+  python::bind_threads(m);
 }
