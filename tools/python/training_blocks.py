@@ -11,10 +11,13 @@
 # afresh every epoch and computes features with dgcnn_reference.block_features,
 # the one Python definition the C++ engine is tested against.
 #
-#   /usr/bin/python3 tools/python/training_blocks.py --sarmap build/release/tools/sarmap/sarmap \
-#       --seeds 1000-1059 --every 6 --out /tmp/sarmap-train/blocks.npz
+# The frames are read through the sarmap Python module (docs/python.md), so
+# its build folder must be on PYTHONPATH:
+#
+#   PYTHONPATH=build/release/python /usr/bin/python3 tools/python/training_blocks.py \
+#       --sarmap build/release/tools/sarmap/sarmap --seeds 1000-1059 --every 6 \
+#       --out /tmp/sarmap-train/blocks.npz
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -22,44 +25,20 @@ import tempfile
 
 import numpy as np
 
-_PLY_TYPES = {"float": "<f4", "float32": "<f4", "double": "<f8", "uchar": "u1", "uint8": "u1",
-              "int": "<i4", "uint": "<u4", "short": "<i2", "ushort": "<u2"}
-
-
-def read_ply(path):
-    """The vertex element of a binary little-endian PLY as a numpy structured array."""
-    with open(path, "rb") as f:
-        raw = f.read()
-    end = raw.index(b"end_header\n") + len(b"end_header\n")
-    header = raw[:end].decode("ascii").splitlines()
-    if "format binary_little_endian 1.0" not in header:
-        raise ValueError(f"{path}: only binary little-endian PLY is read here")
-    fields, count = [], None
-    for line in header:
-        words = line.split()
-        if words[:2] == ["element", "vertex"]:
-            count = int(words[2])
-        elif words[:1] == ["property"] and count is not None:
-            fields.append((words[2], _PLY_TYPES[words[1]]))
-    return np.frombuffer(raw, dtype=np.dtype(fields), count=count, offset=end)
-
+try:
+    import sarmap
+except ImportError as error:
+    sys.exit(f"training_blocks.py reads frames through the sarmap module: {error}; "
+             "put its build folder on PYTHONPATH (e.g. PYTHONPATH=build/release/python)")
 
 def sequence_frames(folder, every):
     """Yields (world xyz float64 (M, 3), labels uint8 (M,)) of every `every`-th frame."""
-    with open(os.path.join(folder, "sequence.json")) as f:
-        manifest = json.load(f)
-    in_sensor_frame = manifest["points_frame"] == "sensor"
-    for i, frame in enumerate(manifest["frames"]):
+    for i, (cloud, _pose, _origin) in enumerate(sarmap.open_sequence(folder)):
         if i % every:
             continue
-        cloud = read_ply(os.path.join(folder, frame["file"]))
-        xyz = np.stack([cloud["x"], cloud["y"], cloud["z"]], 1).astype(np.float64)
+        xyz = cloud.xyz.astype(np.float64)
         keep = np.isfinite(xyz).all(1)
-        xyz, labels = xyz[keep], cloud["label"][keep]
-        if in_sensor_frame:
-            pose = np.array(frame["pose"], dtype=np.float64).reshape(4, 4)
-            xyz = xyz @ pose[:3, :3].T + pose[:3, 3]
-        yield xyz, labels
+        yield xyz[keep], cloud.labels[keep]
 
 
 def cells(xyz, block_size, min_points):
@@ -74,11 +53,11 @@ def cells(xyz, block_size, min_points):
             yield (ij[s, 0] * block_size, ij[s, 1] * block_size), np.sort(order[s:e])
 
 
-def collect(sarmap, seeds, every, block_size, min_points, keep_points, rng):
+def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng):
     points, labels, offsets, origins, arena = [], [], [0], [], []
     for seed in seeds:
         with tempfile.TemporaryDirectory(prefix=f"sarmap-sim-{seed}-") as folder:
-            subprocess.run([sarmap, "simulate", "--random", str(seed), "--seed", str(seed), "--out", folder,
+            subprocess.run([sarmap_exe, "simulate", "--random", str(seed), "--seed", str(seed), "--out", folder,
                             "--quiet"], check=True)
             blocks = 0
             for xyz, lab in sequence_frames(folder, every):
