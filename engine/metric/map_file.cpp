@@ -102,9 +102,7 @@ void encode_compact_block(Encoder& out, const BlockKey& key, const SemanticBlock
   out.i32(key.x);
   out.i32(key.y);
   out.i32(key.z);
-  bool uniform = true;
-  for (int l = 1; l < kBlockVoxels && uniform; ++l) uniform = block.log_odds(l) == block.log_odds(0);
-  if (uniform) {
+  if (SemanticBlocks::uniform_slab(block)) {
     out.u8(kUniformOccupancy);
     out.i16(block.log_odds(0));
   } else {
@@ -314,15 +312,14 @@ MapFile read_map_file(const std::filesystem::path& path) {
         check_log_odds(v.log_odds, voxel_at);
       }
     } else {
-      const bool uniform = d.u8() == kUniformOccupancy;
-      for (int l = 0; l < kBlockVoxels; ++l) {
-        if (uniform && l > 0) {
-          voxels[l].log_odds = voxels[0].log_odds;
-          continue;
-        }
+      const std::size_t stored = d.u8() == kUniformOccupancy ? 1 : kBlockVoxels;
+      for (std::size_t l = 0; l < stored; ++l) {
         const std::size_t voxel_at = d.offset();
         voxels[l].log_odds = d.i16();
         check_log_odds(voxels[l].log_odds, voxel_at);
+      }
+      if (stored == 1) {
+        for (SemanticVoxel& v : voxels) v.log_odds = voxels[0].log_odds;
       }
       std::array<std::uint64_t, kMaskWords> mask;
       for (std::uint64_t& word : mask) word = d.u64();
