@@ -84,30 +84,37 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
   // starts and ends shows ThreadSanitizer that order (a few uncontended
   // locks per scan).
   std::mutex handoff;
-  const auto hand_over = [&] { const std::lock_guard<std::mutex> order(handoff); };
-  // Last of all, also when a filter threw (oneTBB waits for every call
-  // before it rethrows): before this thread reads the maps or frees the slots.
+  // Touched as a call starts and again as it ends, also when the call throws
+  // (an error from `done` or the reader): that last touch is what orders the
+  // call's reads of the slot before this thread frees it.
+  struct HandOver {
+    std::mutex& m;
+    explicit HandOver(std::mutex& mutex) : m(mutex) { const std::lock_guard<std::mutex> order(m); }
+    ~HandOver() { const std::lock_guard<std::mutex> order(m); }
+    HandOver(const HandOver&) = delete;
+    HandOver& operator=(const HandOver&) = delete;
+  };
+  // Last of all (oneTBB waits for every call before it rethrows): before this
+  // thread reads the maps or frees the slots.
   struct HandOverAtExit {
     std::mutex& m;
     ~HandOverAtExit() { const std::lock_guard<std::mutex> order(m); }
   } at_exit{handoff};
   const auto input = [&](tbb::flow_control& control) -> StreamedScan* {
-    hand_over();
+    const HandOver order(handoff);
     StreamedScan& item = slots[(next_frame - first_frame) % kInFlight];
     if (!read_next(read, next_frame, item)) {
       control.stop();
-      hand_over();
       return nullptr;
     }
     ++next_frame;
-    hand_over();
     return &item;
   };
   // Each half runs isolated: a thread waiting inside one half's parallel
   // loop takes no task of the other half, whose per-thread scratch it could
   // otherwise enter twice.
   const auto classify = [&](StreamedScan* item) -> StreamedScan* {
-    hand_over();
+    const HandOver order(handoff);
     if (!item->read_failed) {
       tbb::this_task_arena::isolate([&] {
         try {
@@ -117,11 +124,10 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
         }
       });
     }
-    hand_over();
     return item;
   };
   const auto maps = [&](StreamedScan* item) {
-    hand_over();
+    const HandOver order(handoff);
     if (!item->read_failed && !item->error) {
       tbb::this_task_arena::isolate([&] {
         try {
@@ -135,7 +141,6 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
       });
     }
     done(*item);
-    hand_over();
   };
   tbb::parallel_pipeline(kInFlight,
                          tbb::make_filter<void, StreamedScan*>(tbb::filter_mode::serial_in_order, input) &
