@@ -76,6 +76,18 @@ class SegmentMap {
   // stored point.
   SegmentUpdate forget(const std::function<bool(const Eigen::Vector3d&)>& forgotten);
 
+  // Merges another map of the same frame and thinning voxel into this one
+  // (another robot's or run's segments): its stored points arrive scan by
+  // scan, each scan's with that scan's origin, as integrate() takes a new
+  // scan, so a segment of `other` that continues one here merges into it by
+  // the usual rule and the rest become new segments (new ids). Each stored
+  // point brings its voxel's class as one vote; points no scan of `other`
+  // saw (a reclassified region) come last, as reclassify() takes them. This
+  // map's settings rule (max_range included). Throws sarmap::Error
+  // (InvalidArgument) naming both voxel sizes when they differ, or for a map
+  // merged into itself.
+  SegmentUpdate merge(const SegmentMap& other);
+
   // Live segments, in id order.
   std::vector<const Segment*> segments() const;
   std::size_t size() const;
