@@ -71,8 +71,12 @@ SemanticVoxel merge_voxels(const SemanticVoxel& a, const SemanticVoxel& b, const
   return out;
 }
 
-MergeCounts merge_into(MetricMap& into, const MetricMap& other) {
+void check_mergeable(const MetricMap& into, const MetricMap& other) {
   check_same_settings(into.settings(), other.settings());
+}
+
+MergeCounts merge_into(MetricMap& into, const MetricMap& other) {
+  check_mergeable(into, other);
   MergeCounts counts;
   // In key order, so that storage grows the same way whatever the hash order.
   for (const BlockKey& key : other.blocks().sorted_block_keys()) {

@@ -27,6 +27,10 @@ struct MergeCounts {
   std::size_t voxels_in_both = 0; // voxels both knew: where the order of updates matters
 };
 
+// Throws what merge_into would for maps it cannot merge (settings that
+// differ), without changing either: for callers that check before they start.
+void check_mergeable(const MetricMap& into, const MetricMap& other);
+
 // Adds `other`'s voxels into `into`. Both maps must have the same settings
 // (resolution, occupancy, class fusion): otherwise throws sarmap::Error
 // (InvalidArgument) naming the setting and both values, and `into` is
