@@ -70,7 +70,14 @@ Error Mapper::scan_error(const Scan& scan, const Error& e) {
   return Error(e.code(), "scan " + std::to_string(scan.index) + " (" + scan.source + "): " + e.what());
 }
 
+void Mapper::refuse_scans_if_merged() const {
+  if (!merged_) return;
+  throw Error(ErrorCode::InvalidArgument,
+              "a merged Mapper takes no more scans (map them with another Mapper and merge that one in)");
+}
+
 void Mapper::integrate(Scan& scan) {
+  refuse_scans_if_merged();
   if (!row_open_) profile_.begin_scan();
   row_open_ = false;
   try {
@@ -198,6 +205,7 @@ void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& 
 }
 
 void Mapper::finish() {
+  if (merged_) return;  // both sides were finished before they merged
   forget_in_classifier(std::numeric_limits<std::uint64_t>::max(), profile_);
   if (classifier_->accumulated_map() == nullptr) return;
   Bounds changed;

@@ -20,6 +20,7 @@
 #include "engine/core/sensor_info.hpp"
 #include "engine/core/stage_profile.hpp"
 #include "engine/metric/map_bounds.hpp"
+#include "engine/metric/map_merge.hpp"
 #include "engine/metric/metric_map.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "engine/pipeline/point_classifier.hpp"
@@ -77,6 +78,14 @@ struct StreamedScan {
   double read_start_s = 0;  // steady clock, for its latency
 };
 
+// What Mapper::merge did, by map.
+struct MapperMergeCounts {
+  metric::MergeCounts metric;
+  std::size_t semantic_points_added = 0;  // kept points in voxels only the other Mapper held
+  segments::SegmentUpdate segments;
+  topo::TopoUpdate topo;
+};
+
 // Whether a stream's stages overlap: never changes the maps, only the time.
 enum class StageOverlap { Off, On };
 
@@ -119,6 +128,23 @@ class Mapper {
   // before reading the final maps; the segments and the topological map keep
   // the classes their scans had. Scans may still follow.
   void finish();
+
+  // Merges `other`'s maps into this Mapper's (another robot's run in the
+  // same map frame, or another part of the sequence): finishes both, then
+  // the metric map merges voxel by voxel (metric::merge_into), the kept
+  // semantic points by voxel (a voxel this Mapper holds keeps its point),
+  // the segments by the scan-by-scan merge rule (SegmentMap::merge), and
+  // the topological map is rebuilt from the merged segments and map; the
+  // profile takes `other`'s scans. `other` keeps its maps. A merged Mapper
+  // is a finished map: it takes no more scans (integrate and
+  // integrate_stream throw), finish() does nothing and it has no checkpoint,
+  // since its classifier's memory holds one side only; it may take further
+  // merges. Throws sarmap::Error (InvalidArgument) naming both values when
+  // the metric map settings, the segment or kept-point voxel, or the
+  // classifier differ, or for a Mapper merged into itself; nothing is
+  // changed then.
+  MapperMergeCounts merge(Mapper& other);
+  bool merged() const { return merged_; }
 
   const MapperConfig& config() const { return config_; }
   double max_range() const { return integrator_.settings().max_range; }
@@ -165,6 +191,8 @@ class Mapper {
   void forget_in_classifier(std::uint64_t classify_number, StageProfile& profile);
   void stream_in_order(std::size_t first_frame, const ScanReader& read, const ScanDone& done);
   void stream_overlapped(std::size_t first_frame, const ScanReader& read, const ScanDone& done);
+  // Throws for a merged Mapper (merge()).
+  void refuse_scans_if_merged() const;
   // integrate()'s error naming the scan.
   static Error scan_error(const Scan& scan, const Error& e);
   void keep_semantic_points(const PointBuffer& points);
@@ -188,6 +216,7 @@ class Mapper {
   StageProfile profile_;
   PointBuffer semantic_points_;
   bool row_open_ = false;
+  bool merged_ = false;  // merge() made this Mapper: no more scans
   // A forgetting pass reaches the classifier at the start of the second
   // classify stage after the scan whose maps' stages made it, with the blocks
   // the metric map held then: with stages overlapping, the next scan's

@@ -12,6 +12,9 @@
 namespace sarmap::pipeline {
 
 void Mapper::save_state(StateWriter& out) const {
+  // Its classifier's memory holds one side of the merge only: continuing it would not be this map.
+  if (merged_)
+    throw Error(ErrorCode::InvalidArgument, "a merged Mapper has no checkpoint: it takes no more scans");
   out.tag("MAPR");
   out.put(stats_);
   out.put<std::uint64_t>(blocks_dropped_);
@@ -61,6 +64,7 @@ void Mapper::load_state(StateReader& in) {
   semantic_point_keys_ = std::move(keys);
   profile_.load_state(in);
   row_open_ = false;
+  merged_ = false;
 }
 
 }  // namespace sarmap::pipeline

@@ -43,6 +43,7 @@ bool read_next(const Mapper::ScanReader& read, std::size_t frame, StreamedScan& 
 
 void Mapper::integrate_stream(std::size_t first_frame, const ScanReader& read, const ScanDone& done,
                               StageOverlap overlap) {
+  refuse_scans_if_merged();
   if (overlap == StageOverlap::On) {
     stream_overlapped(first_frame, read, done);
   } else {
