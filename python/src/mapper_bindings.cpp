@@ -229,6 +229,40 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
           "it "
           "before reading the final maps; scans may still follow.")
       .def(
+          "merge",
+          [](PyMapper& self, PyMapper& other) {
+            if (&self == &other) throw py::value_error("other: a Mapper cannot be merged into itself");
+            std::size_t graph_nodes = 0;
+            const pipeline::MapperMergeCounts c = [&] {
+              py::gil_scoped_release release;
+              std::scoped_lock lock(self.mutex, other.mutex);
+              const pipeline::MapperMergeCounts counts = self.mapper.merge(other.mapper);
+              self.dropped_non_finite += other.dropped_non_finite;
+              graph_nodes = self.mapper.topo_map().nodes().size();
+              return counts;
+            }();
+            py::dict out;
+            out["blocks_added"] = c.metric.blocks_added;
+            out["blocks_merged"] = c.metric.blocks_merged;
+            out["voxels_in_both"] = c.metric.voxels_in_both;
+            out["semantic_points_added"] = c.semantic_points_added;
+            out["segments_created"] = c.segments.created;
+            out["segments_merged"] = c.segments.merged;
+            out["graph_nodes"] = graph_nodes;
+            return out;
+          },
+          py::arg("other"),
+          "Merges another Mapper's maps (another robot or another part of the sequence, same map frame) into "
+          "this one: both are finished, the metric map merges voxel by voxel (log-odds and class evidence "
+          "added and clamped), kept points by voxel, segments by the scan-by-scan merge rule, and the "
+          "graph is rebuilt. `other` keeps its maps. This Mapper then takes no more scans, but may take further "
+          "merges. ValueError naming both values when the resolutions, voxels or classifiers differ. Returns "
+          "the merge's counts as a dict.")
+      .def_property_readonly(
+          "merged",
+          [](PyMapper& self) { return locked(self, [](PyMapper& m) { return m.mapper.merged(); }); },
+          "Whether merge() made this Mapper (it then takes no more scans).")
+      .def(
           "write",
           [](PyMapper& self, const py::object& folder, const py::object& input) {
             const std::string out = path_argument(folder, "folder");

@@ -1,0 +1,54 @@
+"""Mapper.merge: a sequence mapped in two halves and merged gives the whole
+sequence's map (the kept points exactly, every voxel the whole map knows is
+known); a merged Mapper takes no more scans; Mappers that cannot merge raise
+ValueError naming the setting."""
+
+import numpy as np
+import pytest
+
+import sarmap
+from conftest import FRAMES, LABELS_CONFIG
+
+
+def mapped(sequence_dir, frames, config=LABELS_CONFIG):
+    sequence = sarmap.open_sequence(sequence_dir)
+    mapper = sarmap.Mapper(config, sensor=sequence.sensor)
+    for index, (points, pose, origin) in enumerate(sequence):
+        if index in frames:
+            mapper.integrate(points, pose, frame="world", origin=origin)
+    mapper.finish()
+    return mapper
+
+
+def test_two_halves_merged_give_the_whole_sequences_map(sequence_dir, module_mapper, tmp_path):
+    half = FRAMES // 2
+    first = mapped(sequence_dir, range(0, half))
+    second = mapped(sequence_dir, range(half, FRAMES))
+    counts = first.merge(second)
+    assert first.merged and not second.merged
+    assert counts["blocks_merged"] > 0 and counts["semantic_points_added"] > 0
+    assert counts["graph_nodes"] > 0
+    assert first.scans == FRAMES
+
+    centres, classes = module_mapper.occupied_voxels()
+    assert np.all(first.state_at(centres) != 0)  # every voxel the whole map holds is known
+    first.write(tmp_path / "merged")
+    whole = tmp_path / "whole"
+    module_mapper.write(whole)
+    # A voxel keeps its first point, and the first half came first.
+    merged_points = (tmp_path / "merged" / "semantic_points.ply").read_bytes()
+    assert merged_points == (whole / "semantic_points.ply").read_bytes()
+
+    with pytest.raises(ValueError, match="merged Mapper takes no more scans"):
+        points, pose, origin = next(iter(sarmap.open_sequence(sequence_dir)))
+        first.integrate(points, pose, frame="world", origin=origin)
+
+
+def test_mappers_that_cannot_merge_say_why(sequence_dir):
+    first = mapped(sequence_dir, range(0, 2))
+    coarse = mapped(sequence_dir, range(2, 4), {**LABELS_CONFIG, "voxel": 0.1})
+    with pytest.raises(ValueError, match="resolution"):
+        first.merge(coarse)
+    with pytest.raises(ValueError, match="other"):
+        first.merge(first)
+    assert not first.merged
