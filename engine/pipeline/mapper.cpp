@@ -46,6 +46,7 @@ metric::IntegratorSettings integrator_settings(const MapperConfig& c, const Sens
 
 Mapper::Mapper(const MapperConfig& config, const SensorInfo& sensor)
     : config_(config),
+      sensor_(sensor),
       map_(map_settings(config)),
       integrator_(integrator_settings(config, sensor)),
       classifier_(make_point_classifier(config.classifier)),

@@ -137,9 +137,10 @@ class Mapper {
   // the topological map is rebuilt from the merged segments and map; the
   // profile takes `other`'s scans. `other` keeps its maps. A merged Mapper
   // is a finished map: it takes no more scans (integrate and
-  // integrate_stream throw), finish() does nothing and it has no checkpoint,
-  // since its classifier's memory holds one side only; it may take further
-  // merges. Throws sarmap::Error (InvalidArgument) naming both values when
+  // integrate_stream throw) and finish() does nothing, since its
+  // classifier's memory holds one side only; it may take further merges, and
+  // its state saves and loads (save_state) as a merged Mapper's, so merges
+  // can reduce on other processes. Throws sarmap::Error (InvalidArgument) naming both values when
   // the metric map settings, the segment or kept-point voxel, or the
   // classifier differ, or for a Mapper merged into itself; nothing is
   // changed then.
@@ -147,6 +148,10 @@ class Mapper {
   bool merged() const { return merged_; }
 
   const MapperConfig& config() const { return config_; }
+  // The sensor it was made for (its range and kind shape the integrator and
+  // the segment stage): with config(), what a Mapper that loads this one's
+  // state must be made with.
+  const SensorInfo& sensor() const { return sensor_; }
   double max_range() const { return integrator_.settings().max_range; }
   const metric::MetricMap& metric_map() const { return map_; }
   const metric::IntegrationStats& metric_stats() const { return stats_; }
@@ -205,6 +210,7 @@ class Mapper {
   void forget_dropped_regions(std::uint64_t classify_number, StageProfile& profile);
 
   MapperConfig config_;
+  SensorInfo sensor_;
   metric::MetricMap map_;
   metric::RayIntegrator integrator_;
   metric::IntegrationStats stats_;

@@ -12,10 +12,8 @@
 namespace sarmap::pipeline {
 
 void Mapper::save_state(StateWriter& out) const {
-  // Its classifier's memory holds one side of the merge only: continuing it would not be this map.
-  if (merged_)
-    throw Error(ErrorCode::InvalidArgument, "a merged Mapper has no checkpoint: it takes no more scans");
   out.tag("MAPR");
+  out.put<std::uint8_t>(merged_ ? 1 : 0);
   out.put(stats_);
   out.put<std::uint64_t>(blocks_dropped_);
   out.put<std::uint64_t>(blocks_dropped_unforgotten_);
@@ -36,6 +34,8 @@ void Mapper::save_state(StateWriter& out) const {
 
 void Mapper::load_state(StateReader& in) {
   in.expect_tag("MAPR");
+  const auto merged = in.get<std::uint8_t>();
+  if (merged > 1) in.fail("the merged flag holds " + std::to_string(merged) + ", not 0 or 1");
   stats_ = in.get<metric::IntegrationStats>();
   blocks_dropped_ = static_cast<std::size_t>(in.get<std::uint64_t>());
   blocks_dropped_unforgotten_ = static_cast<std::size_t>(in.get<std::uint64_t>());
@@ -64,7 +64,7 @@ void Mapper::load_state(StateReader& in) {
   semantic_point_keys_ = std::move(keys);
   profile_.load_state(in);
   row_open_ = false;
-  merged_ = false;
+  merged_ = merged == 1;
 }
 
 }  // namespace sarmap::pipeline

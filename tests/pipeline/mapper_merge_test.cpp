@@ -1,7 +1,8 @@
 // Mapper::merge: the parts of one simulated sequence mapped apart and merged
 // give the whole sequence's maps: the metric map exactly where one part saw a
 // voxel, the kept points exactly, the segments by the merge rule; a merged
-// Mapper takes no more scans; Mappers that cannot merge say why.
+// Mapper takes no more scans and its state loads as a merged one; Mappers
+// that cannot merge say why.
 #include "engine/pipeline/mapper.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include "engine/core/state_stream.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tests/pipeline/same_maps.hpp"
 
 namespace sarmap::pipeline {
 namespace {
@@ -160,13 +162,35 @@ TEST(MapperMerge, AMergedMapperTakesNoMoreScans) {
   EXPECT_THROW(first.integrate_stream(
                    0, [](std::size_t, Scan&) { return false; }, [](StreamedScan&) {}),
                Error);
-  StateWriter out;
-  EXPECT_THROW(first.save_state(out), Error);
   const std::size_t known = first.metric_map().counts().known;
   first.finish();  // nothing left to finish
   EXPECT_EQ(first.metric_map().counts().known, known);
   // The side merged in goes on mapping.
   EXPECT_NO_THROW(second.integrate(scan));
+}
+
+TEST(MapperMerge, AMergedMappersStateLoadsAsAMergedMapper) {
+  // What a merge on another process needs: the merged maps travel as state.
+  const auto first = mapped(0, 2), second = mapped(2, 4);
+  first->merge(*second);
+  StateWriter out;
+  first->save_state(out);
+  Mapper loaded(labels_config(), sim::sensor_info(default_arena().sensor));
+  const std::string bytes = out.bytes();
+  StateReader in(bytes, "merged state");
+  loaded.load_state(in);
+  EXPECT_TRUE(loaded.merged());
+  expect_same_maps(loaded, *first);
+  static const sim::Simulator simulator(default_arena());
+  Scan scan = simulator.simulate(12);
+  EXPECT_THROW(loaded.integrate(scan), Error);
+  // A merged Mapper's state does not make an unmerged one merged, nor the reverse.
+  StateWriter unmerged;
+  second->save_state(unmerged);
+  const std::string unmerged_bytes = unmerged.bytes();
+  StateReader back(unmerged_bytes, "unmerged state");
+  loaded.load_state(back);
+  EXPECT_FALSE(loaded.merged());
 }
 
 TEST(MapperMerge, MappersThatCannotMergeSayWhyAndStayUnchanged) {
