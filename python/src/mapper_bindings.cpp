@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
+#include "engine/core/state_stream.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/metric/voxel_cloud.hpp"
@@ -31,6 +32,11 @@
 namespace sarmap::python {
 
 namespace {
+
+// What a pickled Mapper holds: (version, config JSON, sensor dict, Mapper
+// state bytes as a checkpoint holds them, scans offered, points dropped). The
+// state is in the machine's byte order, as checkpoints are.
+constexpr int kPickleVersion = 1;
 
 struct PyMapper {
   PyMapper(const pipeline::MapperConfig& config, const SensorInfo& sensor) : mapper(config, sensor) {}
@@ -258,6 +264,45 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
           "graph is rebuilt. `other` keeps its maps. This Mapper then takes no more scans, but may take further "
           "merges. ValueError naming both values when the resolutions, voxels or classifiers differ. Returns "
           "the merge's counts as a dict.")
+      .def(py::pickle(
+          [](PyMapper& self) {
+            std::string config, state;
+            SensorInfo sensor;
+            std::size_t offered = 0, dropped = 0;
+            locked(self, [&](PyMapper& m) {
+              config = pipeline::config_to_json(m.mapper.config()).dump();
+              sensor = m.mapper.sensor();
+              StateWriter out;
+              m.mapper.save_state(out);
+              state = out.bytes();
+              offered = m.offered;
+              dropped = m.dropped_non_finite;
+            });
+            return py::make_tuple(kPickleVersion, config, sensor_dict(sensor), py::bytes(state), offered, dropped);
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 6 || !py::isinstance<py::int_>(t[0]) || t[0].cast<int>() != kPickleVersion) {
+              value_error("state", "not a pickled sarmap.Mapper of this version");
+            }
+            pipeline::MapperConfig config;
+            try {
+              config = pipeline::config_from_json(nlohmann::ordered_json::parse(t[1].cast<std::string>()));
+            } catch (const nlohmann::json::exception& e) {
+              value_error("state", std::string("the pickled config is not JSON: ") + e.what());
+            }
+            const SensorInfo sensor = sensor_argument(t[2], "sensor");
+            const std::string state = t[3].cast<std::string>();
+            auto mapper = [&] {
+              py::gil_scoped_release release;  // loading the model and the maps takes a while
+              auto m = std::make_unique<PyMapper>(config, sensor);
+              StateReader in(state, "pickled Mapper");
+              m->mapper.load_state(in);
+              return m;
+            }();
+            mapper->offered = t[4].cast<std::size_t>();
+            mapper->dropped_non_finite = t[5].cast<std::size_t>();
+            return mapper;
+          }))
       .def_property_readonly(
           "merged",
           [](PyMapper& self) { return locked(self, [](PyMapper& m) { return m.mapper.merged(); }); },

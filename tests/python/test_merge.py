@@ -1,7 +1,11 @@
 """Mapper.merge: a sequence mapped in two halves and merged gives the whole
 sequence's map (the kept points exactly, every voxel the whole map knows is
 known); a merged Mapper takes no more scans; Mappers that cannot merge raise
-ValueError naming the setting."""
+ValueError naming the setting. Pickling: a Mapper continues after a round
+trip as the original does, a merged one stays merged, a damaged pickle is a
+ValueError."""
+
+import pickle
 
 import numpy as np
 import pytest
@@ -52,3 +56,38 @@ def test_mappers_that_cannot_merge_say_why(sequence_dir):
     with pytest.raises(ValueError, match="other"):
         first.merge(first)
     assert not first.merged
+
+
+def test_a_pickled_mapper_continues_as_the_original_would(sequence_dir, tmp_path):
+    """What sarmap's Mappers need to travel between processes (Dask workers)."""
+    frames = list(sarmap.open_sequence(sequence_dir))
+    original = sarmap.Mapper(LABELS_CONFIG)
+    for points, pose, origin in frames[:3]:
+        original.integrate(points, pose, frame="world", origin=origin)
+    copy = pickle.loads(pickle.dumps(original))
+    assert copy.scans == 3 and not copy.merged
+    for mapper in (original, copy):
+        for points, pose, origin in frames[3:]:
+            mapper.integrate(points, pose, frame="world", origin=origin)
+        mapper.finish()
+    original.write(tmp_path / "original")
+    copy.write(tmp_path / "copy")
+    for name in ("map.sarmap", "segments.json", "graph.json", "semantic_points.ply"):
+        assert (tmp_path / "copy" / name).read_bytes() == (tmp_path / "original" / name).read_bytes(), name
+
+
+def test_a_merged_mapper_pickles_as_a_merged_one(sequence_dir):
+    first = mapped(sequence_dir, range(0, 2))
+    first.merge(mapped(sequence_dir, range(2, 4)))
+    copy = pickle.loads(pickle.dumps(first))
+    assert copy.merged and copy.scans == 4
+    centres, _ = first.occupied_voxels()
+    assert np.array_equal(copy.state_at(centres), first.state_at(centres))
+
+
+def test_a_damaged_pickle_is_a_value_error(sequence_dir):
+    version, config, sensor, state, offered, dropped = mapped(sequence_dir, range(0, 2)).__getstate__()
+    with pytest.raises(ValueError, match="pickled Mapper"):
+        sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((version, config, sensor, state[: len(state) // 2], offered, dropped))
+    with pytest.raises(ValueError, match="state"):
+        sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((99, config, sensor, state, offered, dropped))
