@@ -180,7 +180,14 @@ translation by default. Points with a NaN or infinite coordinate are dropped
 leaves the maps as they were.)doc")
       .def(
           "integrate_sequence",
-          [](PyMapper& self, Sequence& sequence, bool overlap) {
+          [](PyMapper& self, Sequence& sequence, bool overlap, std::size_t start, const py::object& stop_arg) {
+            std::size_t stop = sequence.source().size();
+            if (!stop_arg.is_none()) {
+              if (!py::isinstance<py::int_>(stop_arg) || stop_arg.cast<long long>() < 0) {
+                type_error("stop", "expected None or a frame number >= 0, got " + describe(stop_arg));
+              }
+              stop = std::min(stop, stop_arg.cast<std::size_t>());
+            }
             struct Skipped {
               std::size_t frame;
               std::string source, error;
@@ -192,7 +199,8 @@ leaves the maps as they were.)doc")
               // asked not to, a frame that cannot be read or a scan refused
               // costing only itself (listed in the profile, the maps as they were).
               sequence.rewind();
-              const auto read = [&](std::size_t, Scan& scan) { return sequence.next(scan); };
+              sequence.skip_to(start);
+              const auto read = [&](std::size_t frame, Scan& scan) { return frame < stop && sequence.next(scan); };
               const auto done = [&](pipeline::StreamedScan& item) {
                 m.dropped_non_finite += item.scan.dropped_non_finite;
                 ++m.offered;
@@ -205,7 +213,7 @@ leaves the maps as they were.)doc")
                 m.mapper.profile().skip_scan(item.frame, source, item.error->what(), /*row_open=*/false);
                 skipped.push_back({item.frame, source, item.error->what()});
               };
-              m.mapper.integrate_stream(0, read, done,
+              m.mapper.integrate_stream(start, read, done,
                                         overlap ? pipeline::StageOverlap::On : pipeline::StageOverlap::Off);
             });
             py::dict result;
@@ -221,9 +229,10 @@ leaves the maps as they were.)doc")
             result["skipped"] = listed;
             return result;
           },
-          py::arg("sequence"), py::kw_only(), py::arg("overlap") = true, R"doc(
-Maps every frame of a Sequence (open_sequence) from its first, as `sarmap run`
-does: with overlap=True the next scan is classified while the maps take this
+          py::arg("sequence"), py::kw_only(), py::arg("overlap") = true, py::arg("start") = 0,
+          py::arg("stop") = py::none(), R"doc(
+Maps the frames [start, stop) of a Sequence (open_sequence; every frame by
+default), as `sarmap run` does: with overlap=True the next scan is classified while the maps take this
 one (two scans in flight, the same maps as one at a time; overlap=False runs
 the stages in order). A frame that cannot be read, or a scan the Mapper
 refuses, costs only itself: it is listed in the profile and in the result, and

@@ -19,6 +19,8 @@ class Sequence {
   const ScanSource& source() const { return *source_; }
   bool next(Scan& scan);
   void rewind();
+  // The next frame read is `frame` (past the end: none).
+  void skip_to(std::size_t frame);
 
  private:
   std::string path_;

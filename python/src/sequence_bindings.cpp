@@ -27,6 +27,11 @@ void Sequence::rewind() {
   source_->rewind();
 }
 
+void Sequence::skip_to(std::size_t frame) {
+  std::lock_guard lock(mutex_);
+  source_->skip_to(frame);
+}
+
 namespace {
 
 py::object scan_object(Scan&& scan) {
