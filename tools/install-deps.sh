@@ -31,6 +31,9 @@ packages=(
   # Debian's python3 (python3-dev's headers); numpy is its array type, and
   # pytest runs its suite (tests/python/)
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # sarmap.distributed (python/sarmap/distributed.py) and its test: Dask's
+  # distributed scheduler
+  python3-distributed
 )
 
 # Optional (--python): Debian's PyTorch with OpenBLAS, needed only by
