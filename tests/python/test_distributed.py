@@ -1,7 +1,11 @@
 """sarmap.distributed on a two-worker LocalCluster: a sequence split in two,
 mapped as two tasks and merged, keeps the whole sequence's points and knows
 every voxel its map holds; a part that fails is reported and the others are
-still merged; integrate_sequence maps a frame range."""
+still merged; integrate_sequence maps a frame range; the example runs."""
+
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -63,3 +67,13 @@ def test_bad_arguments_say_which(sequence_dir):
         map_sequences([42], client=object())
     with pytest.raises(ValueError, match="sequences"):
         map_sequences([], client=object())
+
+
+def test_the_example_maps_merges_and_writes(sequence_dir, labels_config, tmp_path):
+    example = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "python", "dask_many_runs.py")
+    out = tmp_path / "merged"
+    result = subprocess.run([sys.executable, example, str(out), str(sequence_dir), "--parts", "2", "--workers", "1",
+                             "--config", str(labels_config)], capture_output=True, text=True, timeout=240)
+    assert result.returncode == 0, result.stderr
+    assert f"2 parts ({FRAMES} scans) on 1 workers" in result.stdout
+    assert (out / "manifest.json").exists() and (out / "map.sarmap").exists()
