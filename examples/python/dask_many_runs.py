@@ -12,8 +12,7 @@ import os
 
 import distributed
 
-import sarmap
-from sarmap.distributed import Part, map_sequences, split_sequence
+from sarmap.distributed import Part, local_cluster, map_sequences, split_sequence
 
 
 def main():
@@ -32,8 +31,7 @@ def main():
     if args.scheduler:
         client = distributed.Client(args.scheduler)
     else:
-        cluster = distributed.LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=None)
-        client = distributed.Client(cluster)
+        client = distributed.Client(local_cluster(args.workers))
     with client:
         workers = len(client.scheduler_info()["workers"])
         result = map_sequences(parts, config=args.config, client=client)

@@ -39,7 +39,8 @@ class Part:
 class MapResult:
     """The merged Mapper (None when every part failed), the parts it holds,
     the parts that failed with their errors, and the wall time of the
-    mapping tasks (until the last finished) and of the merges after them."""
+    mapping tasks (until the last finished) and from then to the merged
+    Mapper on the client (the merges and the Mappers' travel)."""
 
     mapper: "sarmap.Mapper | None"
     mapped: list = field(default_factory=list)
@@ -56,6 +57,24 @@ def split_sequence(path, parts):
     frames = len(sarmap.open_sequence(path))
     bounds = [frames * i // parts for i in range(parts + 1)]
     return [Part(os.fspath(path), bounds[i], bounds[i + 1]) for i in range(parts) if bounds[i] < bounds[i + 1]]
+
+
+def local_cluster(workers=None):
+    """A LocalCluster for sarmap: `workers` single-threaded worker processes
+    (one per core by default), without the malloc trim threshold Dask's
+    nanny sets in its workers' environment: glibc then also stops adapting
+    its mmap threshold, every large buffer of a scan becomes a fresh mmap,
+    and mapping takes about twice as long (PERF.md, "Many parts on Dask").
+    A cluster of your own should drop it too
+    (`distributed.nanny.pre-spawn-environ`)."""
+    import dask
+    from distributed import LocalCluster
+
+    environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", default={}) or {})
+    environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+        return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                            dashboard_address=None)
 
 
 def _as_part(item):
@@ -84,12 +103,12 @@ def _merge_pair(first, second):
 def map_sequences(sequences, config=None, client=None, *, threads_per_task=0, progress=False):
     """Maps every item of `sequences` (paths or Parts) as one Dask task each
     and merges the results in a tree. client: a distributed.Client; None
-    starts a LocalCluster (one worker process per core, one task each) and
+    starts local_cluster() (one worker process per core, one task each) and
     closes it afterwards. config: a Mapper config (dict or path), the same
     for every part: maps merge only at one resolution. threads_per_task:
     sarmap.set_threads in each task (0: every core the worker has).
     progress: show Dask's progress bar. Returns a MapResult."""
-    from distributed import Client, LocalCluster, progress as show_progress, wait
+    from distributed import Client, progress as show_progress, wait
 
     parts = [_as_part(item) for item in sequences]
     if not parts:
@@ -98,8 +117,7 @@ def map_sequences(sequences, config=None, client=None, *, threads_per_task=0, pr
         config = os.fspath(config)
     own_client = client is None
     if own_client:
-        cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+        cluster = local_cluster()
         client = Client(cluster)
     try:
         start = time.perf_counter()
