@@ -2,26 +2,21 @@
 // frame, or the parts of one sequence mapped apart. Every map merges by the
 // rule that map already follows for new data (docs/architecture.md, "Merging
 // maps"); the topological map is rebuilt from the merged segments.
-#include <cstdio>
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/metres_text.hpp"
 #include "engine/metric/map_merge.hpp"
 #include "engine/pipeline/mapper.hpp"
 
 namespace sarmap::pipeline {
 namespace {
 
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g m", value);
-  return text;
-}
-
 void require_same(double here, double other, const char* what) {
   if (here == other) return;
   throw Error(ErrorCode::InvalidArgument, std::string("merge: cannot merge maps with ") + what + " " +
-                                              metres(other) + " into maps with " + what + " " + metres(here));
+                                              metres_text(other) + " into maps with " + what + " " +
+                                              metres_text(here));
 }
 
 }  // namespace

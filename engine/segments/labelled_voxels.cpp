@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <initializer_list>
 #include <limits>
 #include <string>
 #include <utility>
+
+#include "engine/core/metres_text.hpp"
 
 namespace sarmap::segments {
 namespace {
@@ -16,12 +17,6 @@ constexpr std::int64_t kHalf = std::int64_t{1} << (kBits - 1);
 // A voxel size of 0 keeps points a millimetre apart.
 constexpr double kExactVoxel = 0.001;
 constexpr std::size_t kInitialVoxels = 4096;
-
-std::string metres(double inverse_voxel) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g m", 1.0 / inverse_voxel);
-  return text;
-}
 
 }  // namespace
 
@@ -132,8 +127,8 @@ void LabelledVoxels::load_state(StateReader& in) {
   in.expect_tag("LVOX");
   const auto inverse_voxel = in.get<double>();
   if (inverse_voxel != inverse_voxel_) {
-    in.fail("the points were saved with voxels of " + metres(inverse_voxel) + ", these are " +
-            metres(inverse_voxel_));
+    in.fail("the points were saved with voxels of " + metres_text(1.0 / inverse_voxel) + ", these are " +
+            metres_text(1.0 / inverse_voxel_));
   }
   const std::vector<std::uint64_t> keys = in.get_vector<std::uint64_t>();
   // Inserted in their order, every key gets back its index, and a table

@@ -4,21 +4,15 @@
 // by the rule every new scan's points follow. Replaying the points rather
 // than splicing segments keeps one place that decides when two segments are
 // one surface.
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "engine/core/metres_text.hpp"
 #include "engine/segments/segment_map.hpp"
 
 namespace sarmap::segments {
 namespace {
-
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g m", value);
-  return text;
-}
 
 // The stored points of `indices` as a labelled buffer.
 PointBuffer labelled_points(const LabelledVoxels& voxels, const std::vector<std::uint32_t>& indices) {
@@ -41,8 +35,8 @@ SegmentUpdate SegmentMap::merge(const SegmentMap& other) {
   if (&other == this) throw Error(ErrorCode::InvalidArgument, "segments: a map cannot be merged into itself");
   if (other.voxels_.voxel() != voxels_.voxel()) {
     throw Error(ErrorCode::InvalidArgument, "segments: cannot merge a map thinned to " +
-                                                metres(other.settings_.voxel) +
-                                                " voxels into one thinned to " + metres(settings_.voxel));
+                                                metres_text(other.settings_.voxel) +
+                                                " voxels into one thinned to " + metres_text(settings_.voxel));
   }
   // Stored points grouped by the scan that stored them; points of a
   // reclassified region that no scan saw come last, as a reclassification.

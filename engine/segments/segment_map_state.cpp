@@ -4,9 +4,9 @@
 // lists with their duplicates. Every index read back is checked against what
 // it will index, so a corrupt stream is an error, never a crash.
 #include <algorithm>
-#include <cstdio>
 #include <string>
 
+#include "engine/core/metres_text.hpp"
 #include "engine/segments/segment_map.hpp"
 #include "engine/segments/segment_record.hpp"
 
@@ -31,12 +31,6 @@ bool get_flag(StateReader& in, const char* name) {
     in.fail(std::string("the ") + name + " flag holds " + std::to_string(value) + ", not 0 or 1");
   }
   return value == 1;
-}
-
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g m", value);
-  return text;
 }
 
 // Point indices that will index the map's point columns.
@@ -138,8 +132,8 @@ void SegmentMap::load_state(StateReader& in) {
   in.expect_tag("SEGM");
   const auto voxel = in.get<double>();
   if (voxel != settings_.voxel) {
-    in.fail("the segment map was saved with a voxel size of " + metres(voxel) + ", this one's is " +
-            metres(settings_.voxel));
+    in.fail("the segment map was saved with a voxel size of " + metres_text(voxel) + ", this one's is " +
+            metres_text(settings_.voxel));
   }
   LabelledVoxels voxels(settings_.voxel);
   voxels.load_state(in);
