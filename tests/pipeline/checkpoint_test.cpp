@@ -16,6 +16,7 @@
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/pipeline/default_arena.hpp"
 #include "tests/pipeline/same_maps.hpp"
 #include "tests/release_only.hpp"
 
@@ -24,11 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const sim::Arena& default_arena() {
-  static const sim::Arena arena =
-      sim::load_arena(std::string(SARMAP_SOURCE_DIR) + "/datasets/arenas/esogu-6x4.json");
-  return arena;
-}
+using testing::default_arena;
 
 MapperConfig config_for(const std::string& classifier, std::size_t max_blocks = 0) {
   MapperConfig config;

@@ -17,16 +17,13 @@
 #include "engine/core/state_stream.hpp"
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tests/pipeline/default_arena.hpp"
 #include "tests/pipeline/same_maps.hpp"
 
 namespace sarmap::pipeline {
 namespace {
 
-const sim::Arena& default_arena() {
-  static const sim::Arena arena =
-      sim::load_arena(std::string(SARMAP_SOURCE_DIR) + "/datasets/arenas/esogu-6x4.json");
-  return arena;
-}
+using testing::default_arena;
 
 // The input's own labels, coarse voxels: the test is about merging, not classifying.
 MapperConfig labels_config(double voxel = 0.1) {

@@ -18,16 +18,13 @@
 
 #include "engine/sim/arena.hpp"
 #include "engine/sim/simulator.hpp"
+#include "tests/pipeline/default_arena.hpp"
 #include "tests/pipeline/same_maps.hpp"
 
 namespace sarmap::pipeline {
 namespace {
 
-const sim::Arena& default_arena() {
-  static const sim::Arena arena =
-      sim::load_arena(std::string(SARMAP_SOURCE_DIR) + "/datasets/arenas/esogu-6x4.json");
-  return arena;
-}
+using testing::default_arena;
 
 // The classifier of the accumulated map with the small test network, on a
 // map small enough that it forgets (the labelled point map among the rest).
