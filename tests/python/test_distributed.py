@@ -50,6 +50,12 @@ def test_a_split_sequence_maps_on_two_workers_as_it_maps_whole(sequence_dir, mod
         (tmp_path / "whole" / "semantic_points.ply").read_bytes()
 
 
+def test_progress_shows_dasks_bar_and_maps_the_same(sequence_dir, client, capsys):
+    result = map_sequences(split_sequence(sequence_dir, 2), config=LABELS_CONFIG, client=client, progress=True)
+    assert result.failed == {} and result.mapper.scans == FRAMES
+    assert "100%" in capsys.readouterr().out  # the text bar, completed
+
+
 def test_a_failing_part_costs_only_itself(sequence_dir, client, tmp_path):
     missing = tmp_path / "no_such_sequence"
     parts = [Part(str(sequence_dir), 0, 3), Part(str(missing)), Part(str(sequence_dir), 3, None)]
