@@ -95,12 +95,9 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
     HandOver(const HandOver&) = delete;
     HandOver& operator=(const HandOver&) = delete;
   };
-  // Last of all (oneTBB waits for every call before it rethrows): before this
-  // thread reads the maps or frees the slots.
-  struct HandOverAtExit {
-    std::mutex& m;
-    ~HandOverAtExit() { const std::lock_guard<std::mutex> order(m); }
-  } at_exit{handoff};
+  // Its closing touch comes last of all (oneTBB waits for every call before
+  // it rethrows): before this thread reads the maps or frees the slots.
+  const HandOver at_exit(handoff);
   const auto input = [&](tbb::flow_control& control) -> StreamedScan* {
     const HandOver order(handoff);
     StreamedScan& item = slots[(next_frame - first_frame) % kInFlight];

@@ -88,6 +88,7 @@ def test_a_merged_mapper_pickles_as_a_merged_one(sequence_dir):
 def test_a_damaged_pickle_is_a_value_error(sequence_dir):
     version, config, sensor, state, offered, dropped = mapped(sequence_dir, range(0, 2)).__getstate__()
     with pytest.raises(ValueError, match="pickled Mapper"):
-        sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((version, config, sensor, state[: len(state) // 2], offered, dropped))
+        truncated = state[: len(state) // 2]
+        sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((version, config, sensor, truncated, offered, dropped))
     with pytest.raises(ValueError, match="state"):
         sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((99, config, sensor, state, offered, dropped))
