@@ -22,6 +22,7 @@ inline constexpr std::size_t kClassCount = 6;
 
 struct Rgb {
   std::uint8_t r, g, b;
+  friend bool operator==(Rgb, Rgb) = default;
 };
 
 struct ClassInfo {

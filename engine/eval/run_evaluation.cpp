@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
+#include "engine/eval/optional_json_number.hpp"
 #include "engine/io/ply.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
@@ -25,8 +26,6 @@ constexpr const char* kPointsFile = "semantic_points.ply";
 constexpr const char* kMapFile = "map.sarmap";
 constexpr const char* kSegmentsFile = "segments.json";
 constexpr const char* kGraphFile = "graph.json";
-
-Json optional_number(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
 
 std::string percent(const std::optional<double>& v) {
   if (!v) return "n/a";
@@ -189,11 +188,11 @@ Json to_json(const RunEvaluation& e) {
     j["points"] = e.points->points;
     j["points_scored"] = e.points->scored;
     j["points_unlabelled"] = e.points->unlabelled;
-    j["accuracy"] = optional_number(m.accuracy());
-    j["mean_iou"] = optional_number(m.mean_iou());
+    j["accuracy"] = optional_json_number(m.accuracy());
+    j["mean_iou"] = optional_json_number(m.mean_iou());
     Json per_class = Json::object();
     for (std::size_t c = 1; c < kClassCount; ++c) {
-      per_class[std::string(kClassTable[c].name)] = optional_number(m.iou(static_cast<ClassId>(c)));
+      per_class[std::string(kClassTable[c].name)] = optional_json_number(m.iou(static_cast<ClassId>(c)));
     }
     j["per_class_iou"] = per_class;
     Json classes = Json::array();

@@ -7,14 +7,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/eval/optional_json_number.hpp"
 #include "engine/eval/segment_scores.hpp"
 
 namespace sarmap::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json optional_number(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
@@ -86,9 +85,9 @@ void add_segment_scores_json(const SegmentScores& s, nlohmann::ordered_json& out
   j["on_sides"] = s.on_sides;
   j["spurious"] = s.spurious.size();
   j["spurious_ids"] = s.spurious;
-  j["max_normal_error_deg"] = optional_number(s.max_normal_error_deg);
-  j["max_offset_error_m"] = optional_number(s.max_offset_error_m);
-  j["max_slope_error_deg"] = optional_number(s.max_slope_error_deg);
+  j["max_normal_error_deg"] = optional_json_number(s.max_normal_error_deg);
+  j["max_offset_error_m"] = optional_json_number(s.max_offset_error_m);
+  j["max_slope_error_deg"] = optional_json_number(s.max_slope_error_deg);
   out["segments"] = std::move(j);
 }
 

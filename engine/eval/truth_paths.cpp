@@ -9,13 +9,12 @@
 #include <utility>
 #include <variant>
 
+#include "engine/core/degrees.hpp"
 #include "engine/core/error.hpp"
 #include "engine/geometry/segment_box.hpp"
 
 namespace sarmap::eval {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 double polyline_length(const std::vector<Eigen::Vector3d>& points) {
   double length = 0;

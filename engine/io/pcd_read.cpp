@@ -17,7 +17,7 @@
 namespace sarmap {
 namespace {
 
-constexpr int kUnbound = -1;
+constexpr int kUnboundField = -1;
 
 struct FieldLayout {
   std::vector<FieldBinding> bindings;
@@ -30,7 +30,7 @@ FieldLayout bind_fields(const PcdHeader& header, const std::string& file) {
   for (const PcdField& f : header.fields) {
     const auto attribute = attribute_from_pcd_name(f.name);
     if (!attribute) {
-      layout.binding_of_field.push_back(kUnbound);
+      layout.binding_of_field.push_back(kUnboundField);
       continue;
     }
     if (f.count != 1) {
@@ -103,7 +103,7 @@ void read_binary(std::string_view bytes, const PcdHeader& header, FieldLayout& l
   }
   std::size_t field_offset = 0;
   for (std::size_t k = 0; k < header.fields.size(); ++k) {
-    if (layout.binding_of_field[k] != kUnbound) {
+    if (layout.binding_of_field[k] != kUnboundField) {
       FieldBinding& b = layout.bindings[layout.binding_of_field[k]];
       b.offset = field_offset;
       b.stride = stride;
@@ -162,7 +162,7 @@ void read_binary_compressed(std::string_view bytes, const PcdHeader& header, Fie
   // Stored by field: all values of the first field, then the second, ...
   std::size_t column = 0;
   for (std::size_t k = 0; k < header.fields.size(); ++k) {
-    if (layout.binding_of_field[k] != kUnbound) {
+    if (layout.binding_of_field[k] != kUnboundField) {
       FieldBinding& b = layout.bindings[layout.binding_of_field[k]];
       b.offset = column;
       b.stride = header.fields[k].bytes();
@@ -223,7 +223,7 @@ void read_ascii(std::string_view bytes, const PcdHeader& header, const FieldLayo
           throw fail("line ends before field '" + f.name + "' (expected " + std::to_string(values) +
                      " values per line)");
         }
-        if (b != kUnbound && !store_text_value(token, layout.bindings[b], points, i, expected)) {
+        if (b != kUnboundField && !store_text_value(token, layout.bindings[b], points, i, expected)) {
           throw fail("field '" + f.name + "' is '" + std::string(token) + "'; expected " + expected);
         }
       }

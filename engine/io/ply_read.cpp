@@ -17,9 +17,9 @@
 namespace sarmap {
 namespace {
 
-constexpr int kUnbound = -1;
+constexpr int kUnboundProperty = -1;
 
-// The vertex properties sarmap keeps, and for each property its binding (or kUnbound).
+// The vertex properties sarmap keeps, and for each property its binding (or kUnboundProperty).
 struct VertexLayout {
   std::vector<FieldBinding> bindings;
   std::vector<int> binding_of_property;
@@ -31,7 +31,7 @@ VertexLayout bind_vertex_properties(const PlyElement& vertex, const std::string&
   for (const PlyProperty& p : vertex.properties) {
     const auto attribute = attribute_from_ply_name(p.name);
     if (!attribute) {
-      layout.binding_of_property.push_back(kUnbound);
+      layout.binding_of_property.push_back(kUnboundProperty);
       continue;
     }
     if (p.is_list) {
@@ -161,7 +161,7 @@ void read_binary_vertices(std::string_view bytes, std::size_t offset, const PlyE
     std::size_t field_offset = 0;
     std::size_t b = 0;
     for (std::size_t k = 0; k < vertex.properties.size(); ++k) {
-      if (layout.binding_of_property[k] != kUnbound) {
+      if (layout.binding_of_property[k] != kUnboundProperty) {
         layout.bindings[b].offset = field_offset;
         layout.bindings[b].stride = min_size;
         ++b;
@@ -198,7 +198,7 @@ void read_binary_vertices(std::string_view bytes, std::size_t offset, const PlyE
         continue;
       }
       const int b = layout.binding_of_property[k];
-      if (b != kUnbound) {
+      if (b != kUnboundProperty) {
         std::memcpy(packed.data() + r * packed_stride + layout.bindings[b].offset, bytes.data() + cursor,
                     scalar_size(p.type));
       }
@@ -292,7 +292,7 @@ void read_ascii_vertices(DataLines& lines, std::size_t remaining_bytes, const Pl
         continue;
       }
       const int b = layout.binding_of_property[k];
-      if (b != kUnbound && !store_text_value(token, layout.bindings[b], points, i, expected)) {
+      if (b != kUnboundProperty && !store_text_value(token, layout.bindings[b], points, i, expected)) {
         throw fail("property '" + p.name + "' is '" + std::string(token) + "'; expected " + expected);
       }
     }

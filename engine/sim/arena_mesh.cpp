@@ -5,12 +5,11 @@
 
 #include <Eigen/Geometry>
 
+#include "engine/core/degrees.hpp"
 #include "engine/geometry/oriented_box.hpp"
 
 namespace sarmap::sim {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 Eigen::Matrix3d yaw_rotation(double yaw_deg) {
   return Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();

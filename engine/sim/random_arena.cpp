@@ -16,7 +16,7 @@
 namespace sarmap::sim {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 constexpr double kWallHeight = 1.2;
 constexpr double kWallThickness = 0.1;
@@ -56,7 +56,7 @@ struct Feature {
   Eigen::Vector2d center;
   double radius;  // bounding circle of the footprint
   double yaw_deg;
-  Json json;
+  OrderedJson json;
 };
 
 struct Layout {
@@ -107,8 +107,8 @@ bool place(Layout& l, Rng& rng, Feature f) {
     if (!fits(l, c, f.radius)) continue;
     f.center = c;
     f.json["center"] = f.kind == Feature::Obstacle
-                           ? Json::array({round3(c.x()), round3(c.y()), f.json["center"][2]})
-                           : Json::array({round3(c.x()), round3(c.y())});
+                           ? OrderedJson::array({round3(c.x()), round3(c.y()), f.json["center"][2]})
+                           : OrderedJson::array({round3(c.x()), round3(c.y())});
     l.features.push_back(std::move(f));
     return true;
   }
@@ -267,11 +267,11 @@ std::vector<Eigen::Vector2d> plan_trajectory(const Layout& l, Layout& kept_out) 
 }
 
 // A whole number as an integer, so today's camera reads "fx": 277 as before.
-Json whole_or_real(double v) {
-  return v == std::floor(v) && std::abs(v) < 1e9 ? Json(static_cast<std::int64_t>(v)) : Json(v);
+OrderedJson whole_or_real(double v) {
+  return v == std::floor(v) && std::abs(v) < 1e9 ? OrderedJson(static_cast<std::int64_t>(v)) : OrderedJson(v);
 }
 
-Json sensor_json(const RandomSensor& s) {
+OrderedJson sensor_json(const RandomSensor& s) {
   if (s.type == SensorType::Lidar) {
     return {{"type", "lidar"},
             {"rings", s.rings},
@@ -295,7 +295,7 @@ Json sensor_json(const RandomSensor& s) {
           {"noise", "kinect"}};
 }
 
-Json make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& sensor) {
+OrderedJson make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& sensor) {
   Rng rng(mix64(seed) ^ attempt);
   Layout l;
   l.width = round3(rng.uniform(8.0, 14.0));
@@ -355,12 +355,12 @@ Json make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& s
   };
   if (count(Feature::Inclined) == 0 || count(Feature::Flat) == 0 || path.size() < 2) return nullptr;
 
-  Json j;
+  OrderedJson j;
   j["version"] = 1;
   j["name"] = "random-" + std::to_string(seed);
   j["bounds"] = {{"min", {0, 0, 0}}, {"max", {l.width, l.depth, 2.4}}};
   j["floor"] = true;
-  Json elements = Json::array();
+  OrderedJson elements = OrderedJson::array();
   for (const Segment& w : kept.walls) {
     elements.push_back({{"type", "wall"}, {"from", {round3(w.a.x()), round3(w.a.y())}},
                         {"to", {round3(w.b.x()), round3(w.b.y())}}, {"height", kWallHeight},
@@ -369,7 +369,7 @@ Json make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& s
   for (const Feature& f : kept.features) elements.push_back(f.json);
   j["elements"] = elements;
   double length = 0;
-  Json waypoints = Json::array();
+  OrderedJson waypoints = OrderedJson::array();
   for (std::size_t i = 0; i < path.size(); ++i) {
     if (i > 0) length += (path[i] - path[i - 1]).norm();
     waypoints.push_back({round3(path[i].x()), round3(path[i].y())});
@@ -390,7 +390,7 @@ Json make_arena(std::uint64_t seed, std::uint64_t attempt, const RandomSensor& s
 std::string random_arena_json(std::uint64_t seed, const RandomSensor& sensor) {
   // A layout whose ramps the tour cannot reach is drawn again.
   for (std::uint64_t attempt = 0; attempt < 64; ++attempt) {
-    const Json j = make_arena(seed, attempt, sensor);
+    const OrderedJson j = make_arena(seed, attempt, sensor);
     if (!j.is_null()) return j.dump(2) + "\n";
   }
   throw Error(ErrorCode::InvalidData, "random arena " + std::to_string(seed) + ": no valid layout in 64 attempts");

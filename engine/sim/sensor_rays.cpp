@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/core/degrees.hpp"
+
 namespace sarmap::sim {
 
 SensorRays make_sensor_rays(const SensorSpec& sensor) {
@@ -11,7 +13,6 @@ SensorRays make_sensor_rays(const SensorSpec& sensor) {
     rays.rows = sensor.rings;
     rays.cols = sensor.horizontal_samples;
     rays.directions.reserve(static_cast<std::size_t>(rays.rows) * static_cast<std::size_t>(rays.cols));
-    constexpr double kDeg = std::numbers::pi / 180.0;
     for (int r = 0; r < rays.rows; ++r) {
       const double elevation =
           rays.rows == 1 ? 0.5 * (sensor.vertical_fov_min_deg + sensor.vertical_fov_max_deg) * kDeg

@@ -16,6 +16,7 @@
 #include "engine/pipeline/run_outputs.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/cli/tiny_arena.hpp"
 
 namespace sarmap {
 namespace {
@@ -24,7 +25,7 @@ namespace fs = std::filesystem;
 using test::quoted;
 using test::run_cli;
 
-const std::string kTinyArena = SARMAP_SOURCE_DIR "/tests/cli/data/tiny_arena.json";
+using testing::kTinyArena;
 
 nlohmann::json json_of(const fs::path& file) { return nlohmann::json::parse(test::read_all(file)); }
 

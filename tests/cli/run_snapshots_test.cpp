@@ -11,6 +11,7 @@
 #include "engine/io/run_folder.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/cli/tiny_arena.hpp"
 
 namespace sarmap {
 namespace {
@@ -20,7 +21,7 @@ using test::quoted;
 using test::read_all;
 using test::run_cli;
 
-const std::string kTinyArena = SARMAP_SOURCE_DIR "/tests/cli/data/tiny_arena.json";
+using testing::kTinyArena;
 
 class RunSnapshots : public ::testing::Test {
  protected:

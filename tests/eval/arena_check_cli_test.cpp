@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/io/sha256.hpp"
+#include "tests/cli/tiny_arena.hpp"
 #include "tests/sim/run_cli.hpp"
 
 namespace sarmap::eval {
@@ -17,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kTinyArena = SARMAP_SOURCE_DIR "/tests/cli/data/tiny_arena.json";
+using testing::kTinyArena;
 const std::string kOtherArena = SARMAP_SOURCE_DIR "/tests/cli/data/room_with_door.json";
 
 // One simulated sequence and its run, shared by the tests (each copies what it changes).

@@ -14,6 +14,7 @@
 #include "engine/io/ply.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/io/sha256.hpp"
+#include "tests/cli/tiny_arena.hpp"
 #include "tests/sim/run_cli.hpp"
 
 namespace sarmap::eval {
@@ -22,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kTinyArena = SARMAP_SOURCE_DIR "/tests/cli/data/tiny_arena.json";
+using testing::kTinyArena;
 const fs::path kOtherArena = SARMAP_SOURCE_DIR "/tests/cli/data/room_with_door.json";
 
 class ArenaCheck : public ::testing::Test {

@@ -9,13 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/degrees.hpp"
 #include "engine/core/error.hpp"
 #include "engine/eval/face_pieces.hpp"
 
 namespace sarmap::eval {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // A wall along y = 1 (faces at y = 0.95 and 1.05), a platform and a ramp.
 sim::Arena small_arena(const std::string& extra = "") {

@@ -8,16 +8,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/core/degrees.hpp"
 #include "engine/eval/face_pieces.hpp"
 
 namespace sarmap::eval {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
+sim::Arena shipped_default_arena() { return sim::load_arena(SARMAP_SOURCE_DIR "/datasets/arenas/esogu-6x4.json"); }
 
-sim::Arena default_arena() { return sim::load_arena(SARMAP_SOURCE_DIR "/datasets/arenas/esogu-6x4.json"); }
-
-sim::Arena arena_with(const std::string& elements) {
+sim::Arena small_arena_with(const std::string& elements) {
   return sim::parse_arena(R"({"name": "t", "bounds": {"min": [0, 0, 0], "max": [4, 4, 2]}, "floor": true,
     "elements": [)" + elements + R"(],
     "trajectory": {"waypoints": [[0.5, 2], [3.5, 2]], "height": 0.5, "frames": 2, "pitch_deg": 0},
@@ -43,7 +42,7 @@ const TruthFace* facing(const std::vector<TruthFace>& faces, std::size_t element
 }
 
 TEST(TruthSurfaces, DefaultArenaFaces) {
-  const std::vector<TruthFace> faces = truth_faces(default_arena());
+  const std::vector<TruthFace> faces = truth_faces(shipped_default_arena());
   ASSERT_EQ(of_kind(faces, FaceKind::Floor).size(), 1u);
   EXPECT_EQ(of_kind(faces, FaceKind::WallFace).size(), 8u);
   EXPECT_EQ(of_kind(faces, FaceKind::RampDeck).size(), 2u);
@@ -90,7 +89,7 @@ TEST(TruthSurfaces, DefaultArenaFaces) {
 }
 
 TEST(TruthSurfaces, AWallStandingAgainstAFaceCutsItInTwo) {
-  const std::vector<TruthFace> faces = truth_faces(arena_with(R"(
+  const std::vector<TruthFace> faces = truth_faces(small_arena_with(R"(
     {"type": "wall", "from": [0.5, 1], "to": [3.5, 1], "height": 1, "thickness": 0.1},
     {"type": "wall", "from": [2, 1], "to": [2, 3], "height": 1, "thickness": 0.1})"));
   // Wall 1 stands on the +y side of wall 0, from x = 1.95 to 2.05.
@@ -119,7 +118,7 @@ TEST(TruthSurfaces, AWallStandingAgainstAFaceCutsItInTwo) {
 }
 
 TEST(TruthSurfaces, BoxesHideButGiveNoFaces) {
-  const std::vector<TruthFace> faces = truth_faces(arena_with(R"(
+  const std::vector<TruthFace> faces = truth_faces(small_arena_with(R"(
     {"type": "wall", "from": [0.5, 1], "to": [3.5, 1], "height": 1, "thickness": 0.1},
     {"type": "box", "center": [2, 1.3, 0.25], "size": [0.4, 0.5, 0.5]})"));
   for (const TruthFace& f : faces) EXPECT_NE(f.element, 1u) << f.name;
@@ -131,7 +130,7 @@ TEST(TruthSurfaces, BoxesHideButGiveNoFaces) {
 }
 
 TEST(TruthSurfaces, SeenFractionCountsObservedVoxelsOnEitherSide) {
-  const std::vector<TruthFace> faces = truth_faces(default_arena());
+  const std::vector<TruthFace> faces = truth_faces(shipped_default_arena());
   const TruthFace& top = *of_kind(faces, FaceKind::PlatformTop).front();  // x 3.9..5.1, y 0.3..1.3, z 0.3
   sim::GroundTruthGrid grid;
   grid.resolution = 0.1;
@@ -153,7 +152,7 @@ TEST(TruthSurfaces, SeenFractionCountsObservedVoxelsOnEitherSide) {
 }
 
 TEST(TruthSurfaces, ConvexSolidOfARamp) {
-  const sim::Arena arena = default_arena();
+  const sim::Arena arena = shipped_default_arena();
   const auto solid = element_solid(arena.elements[4], sim::element_mesh(arena.elements[4]));
   ASSERT_TRUE(solid.has_value());
   // Under the deck (1.5, 0.8: deck at 0.6 * tan 15 = 0.16 m) and above it.

@@ -18,11 +18,11 @@ namespace {
 using test::error_message;
 using ::testing::HasSubstr;
 
-constexpr int kW = 4, kH = 3;
+constexpr int kImageWidth = 4, kImageHeight = 3;
 constexpr double kFx = 50, kFy = 60, kCx = 1.5, kCy = 1.0;
 
 std::vector<std::uint16_t> depth_pixels(int frame) {
-  std::vector<std::uint16_t> p(kW * kH);
+  std::vector<std::uint16_t> p(kImageWidth * kImageHeight);
   for (std::size_t i = 0; i < p.size(); ++i) p[i] = static_cast<std::uint16_t>(5000 + 700 * i + 100 * frame);
   p[5] = 0;  // no measurement
   return p;
@@ -36,7 +36,7 @@ void write_tum_folder(const test::ScratchFolder& dir) {
   for (int f = 0; f < 4; ++f) {
     const std::string name = "depth/" + std::to_string(f) + ".png";
     std::filesystem::create_directories(dir / "depth");
-    test::write_png_gray16(dir / name, kW, kH, depth_pixels(f));
+    test::write_png_gray16(dir / name, kImageWidth, kImageHeight, depth_pixels(f));
     list += std::to_string(times[f]) + " " + name + "\n";
   }
   dir.write("depth.txt", list);
@@ -75,9 +75,9 @@ TEST(TumSequence, FramesTakeTheNearestPoseAndFarOnesAreSkipped) {
     const auto pixels = depth_pixels(f);
     ASSERT_EQ(scan.points.size(), pixels.size() - 1);
     std::size_t i = 0;
-    for (int v = 0; v < kH; ++v) {
-      for (int u = 0; u < kW; ++u) {
-        const std::uint16_t raw = pixels[static_cast<std::size_t>(v * kW + u)];
+    for (int v = 0; v < kImageHeight; ++v) {
+      for (int u = 0; u < kImageWidth; ++u) {
+        const std::uint16_t raw = pixels[static_cast<std::size_t>(v * kImageWidth + u)];
         if (raw == 0) continue;
         const double d = raw / 5000.0;
         const Eigen::Vector3d expected =
@@ -171,7 +171,7 @@ TEST(TumSequence, BadDepthListAndImagesAreErrors) {
   EXPECT_THAT(open_error(), HasSubstr("File name too long"));
 
   // An 8-bit image is found when its frame is read.
-  test::write_png_gray8(dir / "depth/eight.png", kW, kH, std::vector<std::uint8_t>(kW * kH, 9));
+  test::write_png_gray8(dir / "depth/eight.png", kImageWidth, kImageHeight, std::vector<std::uint8_t>(kImageWidth * kImageHeight, 9));
   dir.write("depth.txt", "1.0 depth/eight.png\n");
   auto source = open_scan_sequence(dir.path());
   Scan scan;

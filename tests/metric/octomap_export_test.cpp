@@ -16,13 +16,13 @@
 namespace sarmap::metric {
 namespace {
 
-constexpr std::int32_t kOffset = 32768;
+constexpr std::int32_t kOctomapKeyOffset = 32768;
 
 octomap::OcTreeKey octo_key(const VoxelKey& k) {
-  return octomap::OcTreeKey(static_cast<octomap::key_type>(k.x + kOffset), static_cast<octomap::key_type>(k.y + kOffset),
-                            static_cast<octomap::key_type>(k.z + kOffset));
+  return octomap::OcTreeKey(static_cast<octomap::key_type>(k.x + kOctomapKeyOffset), static_cast<octomap::key_type>(k.y + kOctomapKeyOffset),
+                            static_cast<octomap::key_type>(k.z + kOctomapKeyOffset));
 }
-VoxelKey our_key(const octomap::OcTreeKey& k) { return {k[0] - kOffset, k[1] - kOffset, k[2] - kOffset}; }
+VoxelKey our_key(const octomap::OcTreeKey& k) { return {k[0] - kOctomapKeyOffset, k[1] - kOctomapKeyOffset, k[2] - kOctomapKeyOffset}; }
 
 // Every known voxel of one map has the same state in the other, both ways.
 void expect_same_states(const MetricMap& map, const octomap::OcTree& tree) {

@@ -15,20 +15,13 @@
 #include <tbb/task_arena.h>
 
 #include "engine/core/error.hpp"
+#include "tests/metric/maps_identical.hpp"
 #include "tests/metric/synthetic_room.hpp"
 
 namespace sarmap::metric {
 namespace {
 
-bool maps_identical(const MetricMap& a, const MetricMap& b) {
-  const auto ka = a.blocks().sorted_block_keys(), kb = b.blocks().sorted_block_keys();
-  if (ka != kb) return false;
-  for (const BlockKey& k : ka) {
-    const DenseVoxels va = a.blocks().find(k)->dense(), vb = b.blocks().find(k)->dense();
-    if (std::memcmp(va.data(), vb.data(), sizeof(va)) != 0) return false;
-  }
-  return true;
-}
+using testing::maps_identical;
 
 void expect_same_stats(const IntegrationStats& a, const IntegrationStats& b) {
   EXPECT_EQ(a.points_in, b.points_in);

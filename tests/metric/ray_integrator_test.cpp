@@ -18,6 +18,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/metric/voxel_ray.hpp"
+#include "tests/metric/maps_identical.hpp"
 #include "tests/metric/synthetic_room.hpp"
 
 namespace sarmap::metric {
@@ -40,15 +41,7 @@ std::int16_t log_odds(const MetricMap& m, VoxelKey k) {
   return v ? v->log_odds : kUnknownLogOdds;
 }
 
-bool maps_identical(const MetricMap& a, const MetricMap& b) {
-  const auto ka = a.blocks().sorted_block_keys(), kb = b.blocks().sorted_block_keys();
-  if (ka != kb) return false;
-  for (const BlockKey& k : ka) {
-    const DenseVoxels va = a.blocks().find(k)->dense(), vb = b.blocks().find(k)->dense();
-    if (std::memcmp(va.data(), vb.data(), sizeof(va)) != 0) return false;
-  }
-  return true;
-}
+using testing::maps_identical;
 
 // The reference's map: every block as 512 SemanticVoxel, by block key.
 using DenseMap = std::map<std::tuple<int, int, int>, DenseVoxels>;

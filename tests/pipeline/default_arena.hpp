@@ -6,7 +6,7 @@
 
 #include "engine/sim/arena.hpp"
 
-namespace sarmap::pipeline::testing {
+namespace sarmap::testing {
 
 inline const sim::Arena& default_arena() {
   static const sim::Arena arena =
@@ -14,4 +14,4 @@ inline const sim::Arena& default_arena() {
   return arena;
 }
 
-}  // namespace sarmap::pipeline::testing
+}  // namespace sarmap::testing

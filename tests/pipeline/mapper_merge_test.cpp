@@ -26,7 +26,7 @@ namespace {
 using testing::default_arena;
 
 // The input's own labels, coarse voxels: the test is about merging, not classifying.
-MapperConfig labels_config(double voxel = 0.1) {
+MapperConfig merge_config(double voxel = 0.1) {
   MapperConfig config;
   config.voxel = voxel;
   config.semantic_points_voxel = 0.1;
@@ -48,7 +48,7 @@ void map_frames(Mapper& mapper, std::size_t from, std::size_t to) {
 
 // Mappers hold a mutex: they do not move.
 std::unique_ptr<Mapper> mapped(std::size_t from, std::size_t to,
-                               const MapperConfig& config = labels_config()) {
+                               const MapperConfig& config = merge_config()) {
   auto mapper = std::make_unique<Mapper>(config, sim::sensor_info(default_arena().sensor));
   map_frames(*mapper, from, to);
   return mapper;
@@ -182,7 +182,7 @@ TEST(MapperMerge, AMergedMappersStateLoadsAsAMergedMapper) {
   first->merge(*second);
   StateWriter out;
   first->save_state(out);
-  Mapper loaded(labels_config(), sim::sensor_info(default_arena().sensor));
+  Mapper loaded(merge_config(), sim::sensor_info(default_arena().sensor));
   const std::string bytes = out.bytes();
   StateReader in(bytes, "merged state");
   loaded.load_state(in);
@@ -204,16 +204,16 @@ TEST(MapperMerge, MappersThatCannotMergeSayWhyAndStayUnchanged) {
   const auto fine_mapper = mapped(0, 2);
   Mapper& fine = *fine_mapper;
   const std::size_t blocks = fine.metric_map().blocks().block_count();
-  const auto coarse = mapped(2, 4, labels_config(0.2));
+  const auto coarse = mapped(2, 4, merge_config(0.2));
   const std::string resolution = merge_error(fine, *coarse);
   EXPECT_NE(resolution.find("resolution"), std::string::npos) << "merged maps of different resolutions: " << resolution;
-  MapperConfig other_points = labels_config();
+  MapperConfig other_points = merge_config();
   other_points.semantic_points_voxel = 0.05;
   const auto dense = mapped(2, 4, other_points);
   const std::string points = merge_error(fine, *dense);
   EXPECT_NE(points.find("0.05 m"), std::string::npos) << "merged maps keeping points at different voxels: " << points;
   EXPECT_NE(points.find("0.1 m"), std::string::npos) << points;
-  MapperConfig geometric = labels_config();
+  MapperConfig geometric = merge_config();
   geometric.classifier.kind = ClassifierKind::Geometric;
   const auto guessed = mapped(2, 4, geometric);
   EXPECT_THROW(fine.merge(*guessed), Error);

@@ -10,8 +10,6 @@
 namespace sarmap::render {
 namespace {
 
-bool same(Rgb a, Rgb b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
-
 // A 4 x 2 m box framed in 400 x 200 pixels: 0.0104 m a pixel, the box's
 // centre (2, 1) at the image's centre (200, 100).
 const Box3 kBox{{0, 0, 0}, {4, 2, 1}};
@@ -54,20 +52,20 @@ TEST(TopView, OverlaysLandWhereTheCameraProjectsThem) {
     return image.at(static_cast<int>(p.x()), static_cast<int>(p.y()));
   };
   // Nodes: filled in the class of their ground, ringed in black.
-  EXPECT_TRUE(same(at(expected_pixel(1, 1)), class_info(ClassId::Terrain).color));
-  EXPECT_TRUE(same(at(expected_pixel(3, 1)), class_info(ClassId::FlatRamp).color));
-  EXPECT_TRUE(same(at(expected_pixel(1, 1) + Eigen::Vector2f(5.5f, 0)), kTreeEdgeColor));
+  EXPECT_TRUE(at(expected_pixel(1, 1)) == class_info(ClassId::Terrain).color);
+  EXPECT_TRUE(at(expected_pixel(3, 1)) == class_info(ClassId::FlatRamp).color);
+  EXPECT_TRUE(at(expected_pixel(1, 1) + Eigen::Vector2f(5.5f, 0)) == kTreeEdgeColor);
   // The tree edge between them, black, halfway.
-  EXPECT_TRUE(same(at(expected_pixel(2, 1)), kTreeEdgeColor));
+  EXPECT_TRUE(at(expected_pixel(2, 1)) == kTreeEdgeColor);
   // The segment's outline on its left side (x = 0.5), darker wall red; inside it, nothing.
   const Rgb outline = at(expected_pixel(0.5, 0.9));
   EXPECT_GT(outline.r, 100);
   EXPECT_LT(outline.g, 40);
-  EXPECT_TRUE(same(at(expected_pixel(1.5, 1.3)), kBackground));
+  EXPECT_TRUE(at(expected_pixel(1.5, 1.3)) == kBackground);
   // The path along y = 0.2, with its ends marked.
-  EXPECT_TRUE(same(at(expected_pixel(2, 0.2)), kPathColor));
-  EXPECT_TRUE(same(at(expected_pixel(1, 0.2)), kPathColor));
-  EXPECT_TRUE(same(at(expected_pixel(2, 0.35)), kBackground));
+  EXPECT_TRUE(at(expected_pixel(2, 0.2)) == kPathColor);
+  EXPECT_TRUE(at(expected_pixel(1, 0.2)) == kPathColor);
+  EXPECT_TRUE(at(expected_pixel(2, 0.35)) == kBackground);
 }
 
 TEST(TopView, RetiredNodesAndTheirEdgesAreLeftOut) {
@@ -80,9 +78,9 @@ TEST(TopView, RetiredNodesAndTheirEdgesAreLeftOut) {
   RgbImage image(400, 200, kBackground);
   draw_overlays(image, camera, overlays);
   const Eigen::Vector2f p = expected_pixel(2, 1);
-  EXPECT_TRUE(same(image.at(static_cast<int>(p.x()), static_cast<int>(p.y())), kBackground));
+  EXPECT_TRUE(image.at(static_cast<int>(p.x()), static_cast<int>(p.y())) == kBackground);
   const Eigen::Vector2f q = expected_pixel(3, 1);
-  EXPECT_TRUE(same(image.at(static_cast<int>(q.x()), static_cast<int>(q.y())), kBackground));
+  EXPECT_TRUE(image.at(static_cast<int>(q.x()), static_cast<int>(q.y())) == kBackground);
 }
 
 // The map under the overlays: a voxel of terrain seen from above, in its class
@@ -98,11 +96,11 @@ TEST(TopView, TheMapShowsUnderTheOverlays) {
   const Eigen::Vector2f p = expected_pixel(0.75, 0.75);
   const Rgb c = image.at(static_cast<int>(p.x()), static_cast<int>(p.y()));
   const Rgb terrain = class_info(ClassId::Terrain).color;
-  EXPECT_FALSE(same(c, kBackground));
+  EXPECT_FALSE(c == kBackground);
   EXPECT_GT(c.b, terrain.b);  // washed out
   EXPECT_GT(c.r, c.b);        // still yellow
   const Eigen::Vector2f q = expected_pixel(2, 1);
-  EXPECT_TRUE(same(image.at(static_cast<int>(q.x()), static_cast<int>(q.y())), kBackground));
+  EXPECT_TRUE(image.at(static_cast<int>(q.x()), static_cast<int>(q.y())) == kBackground);
 }
 
 }  // namespace

@@ -12,9 +12,7 @@
 namespace sarmap::render {
 namespace {
 
-bool same(Rgb a, Rgb b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
-
-bool is_background(const RgbImage& image, int x, int y) { return same(image.at(x, y), kBackground); }
+bool is_background(const RgbImage& image, int x, int y) { return image.at(x, y) == kBackground; }
 
 // One 1 m voxel of wall centred at (0, 0, 0.5).
 VoxelSet one_cube(ClassId label = ClassId::Wall) {
@@ -79,14 +77,14 @@ TEST(VoxelViews, ACubeFromAboveCoversExactlyItsPixels) {
   }
   EXPECT_EQ(covered, 100);
   const Rgb ramp = class_info(ClassId::InclinedRamp).color;
-  EXPECT_TRUE(same(views.semantic.at(20, 20), ramp));
-  EXPECT_TRUE(same(views.semantic.at(16, 23), ramp));
-  EXPECT_TRUE(same(views.metric.at(20, 20), height_color(0.5f, heights)));
+  EXPECT_TRUE(views.semantic.at(20, 20) == ramp);
+  EXPECT_TRUE(views.semantic.at(16, 23) == ramp);
+  EXPECT_TRUE(views.metric.at(20, 20) == height_color(0.5f, heights));
   // The edge ring: the same hue, darker.
   const Rgb edge = views.semantic.at(15, 20);
   EXPECT_LT(edge.b, ramp.b);
   EXPECT_GT(edge.b, ramp.b / 2);
-  EXPECT_TRUE(same(views.semantic.at(24, 24), edge));
+  EXPECT_TRUE(views.semantic.at(24, 24) == edge);
 }
 
 // A 90-degree pinhole camera 5 m south of the cube, level with its centre:

@@ -12,6 +12,7 @@
 #include "engine/core/state_stream.hpp"
 #include "engine/segments/plane_moments.hpp"
 #include "engine/segments/segment_map.hpp"
+#include "tests/segments/segment_map_probes.hpp"
 #include "tests/segments/synthetic_surfaces.hpp"
 
 namespace sarmap::segments {
@@ -30,11 +31,8 @@ SegmentMap mapped(const std::vector<PointBuffer>& all) {
   return map;
 }
 
-std::string state_of(const SegmentMap& map) {
-  StateWriter out;
-  map.save_state(out);
-  return out.bytes();
-}
+using testing::pending_total;
+using testing::state_of;
 
 // Loading validates every stored index against the points: a renumbering
 // that missed a list fails here.
@@ -45,12 +43,6 @@ SegmentMap reloaded(const SegmentMap& map) {
   copy.load_state(in);
   in.expect_end();
   return copy;
-}
-
-std::size_t pending_total(const SegmentMap& map) {
-  std::size_t total = 0;
-  for (std::size_t c : map.pending_counts()) total += c;
-  return total;
 }
 
 // The plane and centroid a segment reports are those of its members, fitted

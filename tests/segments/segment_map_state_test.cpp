@@ -10,6 +10,7 @@
 #include "engine/core/error.hpp"
 #include "engine/core/state_stream.hpp"
 #include "engine/segments/segment_map.hpp"
+#include "tests/segments/segment_map_probes.hpp"
 #include "tests/segments/synthetic_surfaces.hpp"
 
 namespace sarmap::segments {
@@ -60,23 +61,13 @@ SegmentUpdate apply(SegmentMap& map, const Step& step) {
   return step.origin ? map.integrate(step.points, *step.origin) : map.reclassify(step.points);
 }
 
-std::string state_of(const SegmentMap& map) {
-  StateWriter out;
-  map.save_state(out);
-  return out.bytes();
-}
+using testing::pending_total;
+using testing::state_of;
 
 void load(SegmentMap& map, std::string_view bytes) {
   StateReader in(bytes, "test checkpoint");
   map.load_state(in);
   in.expect_end();
-}
-
-std::size_t pending_total(const SegmentMap& map) {
-  const auto counts = map.pending_counts();
-  std::size_t total = 0;
-  for (std::size_t c : counts) total += c;
-  return total;
 }
 
 void expect_same_update(const SegmentUpdate& a, const SegmentUpdate& b) {

@@ -17,6 +17,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
 #include "tests/file_bytes.hpp"
+#include "tests/semantic/dgcnn_test_data.hpp"
 
 namespace sarmap {
 namespace {
@@ -24,9 +25,9 @@ namespace {
 using test::slurp;
 
 namespace fs = std::filesystem;
-const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
+using testing::kDgcnnDataDir;
 
-int run(const std::string& args, const fs::path& err) {
+int run_classify(const std::string& args, const fs::path& err) {
   const std::string cmd = std::string(SARMAP_CLI_PATH) + " classify " + args + " > /dev/null 2> " + err.string();
   return std::system(cmd.c_str());
 }
@@ -44,14 +45,14 @@ TEST(ClassifyCloud, SharesRunsOptionNamesDefaultsAndModel) {
   for (int i = 0; i < 150; ++i) cloud.push_back(4.0f + 0.5f * u(rng), 0.5f * u(rng), 0.0f);  // a block of 150 points
   write_point_cloud(dir / "in.ply", cloud);
   const auto labelled_in_small_block = [&](const std::string& options) {
-    EXPECT_EQ(run((dir / "in.ply").string() + " --out " + (dir / "out.ply").string() + " " + options, dir / "err"), 0)
+    EXPECT_EQ(run_classify((dir / "in.ply").string() + " --out " + (dir / "out.ply").string() + " " + options, dir / "err"), 0)
         << options << ": " << slurp(dir / "err");
     const PointBuffer out = read_point_cloud(dir / "out.ply");
     std::size_t labelled = 0;
     for (std::size_t p = 800; p < out.size(); ++p) labelled += out.labels()[p] != 0;
     return labelled;
   };
-  const std::string model = "--model " + kDir + "model_c6.safetensors";
+  const std::string model = "--model " + kDgcnnDataDir + "model_c6.safetensors";
   EXPECT_EQ(labelled_in_small_block(model), 150u);
   EXPECT_EQ(labelled_in_small_block(model + " --min-block-points 200"), 0u);
   EXPECT_EQ(labelled_in_small_block(model + " --min-points 200"), 0u);
@@ -72,7 +73,7 @@ TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {
   for (std::size_t p = 0; p < cloud.size(); ++p) cloud.labels()[p] = 1;
   write_point_cloud(dir / "in.ply", cloud);
 
-  ASSERT_EQ(run((dir / "in.ply").string() + " --model " + kDir + "model_c6.safetensors --out " +
+  ASSERT_EQ(run_classify((dir / "in.ply").string() + " --model " + kDgcnnDataDir + "model_c6.safetensors --out " +
                     (dir / "out.ply").string() + " --threads 2",
                 dir / "err"),
             0)
@@ -96,14 +97,14 @@ TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {
 
 TEST(ClassifyCloud, RefusesMissingOutAndBothModes) {
   const fs::path err = fs::temp_directory_path() / ("sarmap_classify_err_" + std::to_string(::getpid()));
-  EXPECT_NE(run(kDir + "block_c6_n1024.npy --model " + kDir + "model_c6.safetensors", err), 0);
-  EXPECT_NE(run(kDir + "model_c6.safetensors --raw-block " + kDir + "block_c6_n1024.npy --model " + kDir +
+  EXPECT_NE(run_classify(kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir + "model_c6.safetensors", err), 0);
+  EXPECT_NE(run_classify(kDgcnnDataDir + "model_c6.safetensors --raw-block " + kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir +
                     "model_c6.safetensors --logits /dev/null",
                 err),
             0);
   EXPECT_NE(slurp(err).find("either INPUT"), std::string::npos) << slurp(err);
   for (const char* stride : {"-1", "nan", "inf"}) {
-    EXPECT_NE(run(kDir + "block_c6_n1024.npy --model " + kDir + "model_c6.safetensors --out /tmp/never.ply --stride " +
+    EXPECT_NE(run_classify(kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir + "model_c6.safetensors --out /tmp/never.ply --stride " +
                       stride,
                   err),
               0)
@@ -140,9 +141,9 @@ TEST(ClassifyCloud, ModelWithAnotherClassListLabelsWithSarmapClasses) {
   for (int i = 0; i < 1500; ++i) cloud.push_back(1.9f * u(rng), 0.9f * u(rng), 0.01f * u(rng));
   for (int i = 0; i < 700; ++i) cloud.push_back(1.9f * u(rng), 0.95f, 1.2f * u(rng));
   write_point_cloud(dir / "in.ply", cloud);
-  const std::string s3dis = kDir + "model_s3dis13.safetensors";
+  const std::string s3dis = kDgcnnDataDir + "model_s3dis13.safetensors";
   const auto classify = [&](const std::string& model) {
-    EXPECT_EQ(run((dir / "in.ply").string() + " --model " + model + " --out " + (dir / "out.ply").string(),
+    EXPECT_EQ(run_classify((dir / "in.ply").string() + " --model " + model + " --out " + (dir / "out.ply").string(),
                   dir / "err"),
               0)
         << slurp(dir / "err");
@@ -172,7 +173,7 @@ TEST(ClassifyCloud, ModelWithAnotherClassListLabelsWithSarmapClasses) {
   }
 
   write_with_metadata(s3dis, "sarmap.class_map", R"({"ceiling": "roof"})", dir / "bad.safetensors");
-  EXPECT_NE(run((dir / "in.ply").string() + " --model " + (dir / "bad.safetensors").string() + " --out " +
+  EXPECT_NE(run_classify((dir / "in.ply").string() + " --model " + (dir / "bad.safetensors").string() + " --out " +
                     (dir / "bad.ply").string(),
                 dir / "err"),
             0);
@@ -190,7 +191,7 @@ TEST(ClassifyCloud, ClassifiesOneFrameOfASequence) {
   fs::create_directories(dir);
   const std::string seq = std::string(SARMAP_TEST_DATA_DIR) + "/sequences/tiny";
   const PointBuffer sensor_frame = read_point_cloud(seq + "/frame_000001.ply");
-  ASSERT_EQ(run(seq + " --frame 1 --model " + kDir + "model_c6.safetensors --out " + (dir / "f1.ply").string(),
+  ASSERT_EQ(run_classify(seq + " --frame 1 --model " + kDgcnnDataDir + "model_c6.safetensors --out " + (dir / "f1.ply").string(),
                 dir / "err"),
             0)
       << slurp(dir / "err");
@@ -203,7 +204,7 @@ TEST(ClassifyCloud, ClassifiesOneFrameOfASequence) {
     EXPECT_NEAR(out.y()[p], sensor_frame.x()[p] + 4.0f, 1e-5f);
     EXPECT_EQ(out.labels()[p], 0) << "two points are far too few for a block";
   }
-  EXPECT_NE(run(seq + " --frame 2 --model " + kDir + "model_c6.safetensors --out " + (dir / "f2.ply").string(),
+  EXPECT_NE(run_classify(seq + " --frame 2 --model " + kDgcnnDataDir + "model_c6.safetensors --out " + (dir / "f2.ply").string(),
                 dir / "err"),
             0);
   EXPECT_NE(slurp(dir / "err").find("--frame 2 but the sequence has 2 frames"), std::string::npos)

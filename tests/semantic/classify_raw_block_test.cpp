@@ -11,14 +11,15 @@
 #include <string>
 
 #include "engine/io/npy.hpp"
+#include "tests/semantic/dgcnn_test_data.hpp"
 
 namespace sarmap {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
+using testing::kDgcnnDataDir;
 
-int run(const std::string& args, const fs::path& err) {
+int run_classify_raw(const std::string& args, const fs::path& err) {
   const std::string cmd = std::string(SARMAP_CLI_PATH) + " classify " + args + " 2> " + err.string();
   return std::system(cmd.c_str());
 }
@@ -26,12 +27,12 @@ int run(const std::string& args, const fs::path& err) {
 TEST(ClassifyRawBlock, WritesLogitsMatchingTheReference) {
   const fs::path out = fs::temp_directory_path() / ("sarmap_logits_" + std::to_string(::getpid()) + ".npy");
   const fs::path err = out.string() + ".err";
-  ASSERT_EQ(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir + "model_c6.safetensors --logits " +
+  ASSERT_EQ(run_classify_raw("--raw-block " + kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir + "model_c6.safetensors --logits " +
                     out.string() + " --threads 2",
                 err),
             0);
   const NpyArray got = read_npy_f32(out);
-  const NpyArray want = read_npy_f32(kDir + "logits_c6_n1024.npy");
+  const NpyArray want = read_npy_f32(kDgcnnDataDir + "logits_c6_n1024.npy");
   ASSERT_EQ(got.shape, want.shape);
   const float range = *std::max_element(want.values.begin(), want.values.end()) -
                       *std::min_element(want.values.begin(), want.values.end());
@@ -45,7 +46,7 @@ TEST(ClassifyRawBlock, GivesEveryLogitOfAModelWithAnotherClassList) {
   const fs::path out =
       fs::temp_directory_path() / ("sarmap_logits_s3dis_" + std::to_string(::getpid()) + ".npy");
   const fs::path err = out.string() + ".err";
-  ASSERT_EQ(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir +
+  ASSERT_EQ(run_classify_raw("--raw-block " + kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir +
                     "model_s3dis13.safetensors --logits " + out.string(),
                 err),
             0);
@@ -59,7 +60,7 @@ TEST(ClassifyRawBlock, GivesEveryLogitOfAModelWithAnotherClassList) {
 TEST(ClassifyRawBlock, RefusesABlockOfTheWrongWidth) {
   const fs::path out = fs::temp_directory_path() / ("sarmap_logits_bad_" + std::to_string(::getpid()) + ".npy");
   const fs::path err = out.string() + ".err";
-  EXPECT_NE(run("--raw-block " + kDir + "block_c6_n1024.npy --model " + kDir + "model_c9.safetensors --logits " +
+  EXPECT_NE(run_classify_raw("--raw-block " + kDgcnnDataDir + "block_c6_n1024.npy --model " + kDgcnnDataDir + "model_c9.safetensors --logits " +
                     out.string(),
                 err),
             0);

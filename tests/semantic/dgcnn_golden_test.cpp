@@ -14,11 +14,12 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/npy.hpp"
+#include "tests/semantic/dgcnn_test_data.hpp"
 
 namespace sarmap {
 namespace {
 
-const std::string kDir = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/";
+using testing::kDgcnnDataDir;
 
 struct Golden {
   int channels;
@@ -37,14 +38,14 @@ class DgcnnGolden : public ::testing::TestWithParam<Golden> {};
 TEST_P(DgcnnGolden, MatchesReferenceLogits) {
   const Golden g = GetParam();
   const std::string tag = "c" + std::to_string(g.channels) + "_n" + std::to_string(g.points);
-  const NpyArray block = read_npy_f32(kDir + "block_" + tag + ".npy");
-  const NpyArray expected = read_npy_f32(kDir + "logits_" + tag + ".npy");
+  const NpyArray block = read_npy_f32(kDgcnnDataDir + "block_" + tag + ".npy");
+  const NpyArray expected = read_npy_f32(kDgcnnDataDir + "logits_" + tag + ".npy");
   ASSERT_EQ(block.shape, (std::vector<std::size_t>{std::size_t(g.points), std::size_t(g.channels)}));
   const float range = *std::max_element(expected.values.begin(), expected.values.end()) -
                       *std::min_element(expected.values.begin(), expected.values.end());
   for (kernels::SimdLevel level : {kernels::SimdLevel::Sse42, kernels::SimdLevel::Avx2, kernels::SimdLevel::Avx512}) {
     if (!kernels::simd_level_supported(level)) continue;
-    const DgcnnModel model = DgcnnModel::load(kDir + "model_c" + std::to_string(g.channels) + ".safetensors", level);
+    const DgcnnModel model = DgcnnModel::load(kDgcnnDataDir + "model_c" + std::to_string(g.channels) + ".safetensors", level);
     ASSERT_EQ(model.channels(), std::size_t(g.channels));
     const std::size_t classes = model.classes();
     ASSERT_EQ(expected.shape, (std::vector<std::size_t>{std::size_t(g.points), classes}));
@@ -69,8 +70,8 @@ INSTANTIATE_TEST_SUITE_P(Fixtures, DgcnnGolden,
                          });
 
 TEST(DgcnnModel, SameLogitsWithOneAndTwoThreads) {
-  const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
-  const NpyArray block = read_npy_f32(kDir + "block_c6_n4096.npy");
+  const DgcnnModel model = DgcnnModel::load(kDgcnnDataDir + "model_c6.safetensors");
+  const NpyArray block = read_npy_f32(kDgcnnDataDir + "block_c6_n4096.npy");
   std::vector<float> one, two;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
@@ -84,8 +85,8 @@ TEST(DgcnnModel, SameLogitsWithOneAndTwoThreads) {
 }
 
 TEST(DgcnnModel, FewerPointsThanKStillRuns) {
-  const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
-  const NpyArray block = read_npy_f32(kDir + "block_c6_n1024.npy");
+  const DgcnnModel model = DgcnnModel::load(kDgcnnDataDir + "model_c6.safetensors");
+  const NpyArray block = read_npy_f32(kDgcnnDataDir + "block_c6_n1024.npy");
   DgcnnWorkspace ws;
   std::vector<float> logits(5 * model.classes());
   model.forward(block.values.data(), 5, logits.data(), ws);
@@ -101,9 +102,9 @@ std::vector<const void*> buffer_addresses(const DgcnnWorkspace& ws) {
 }
 
 TEST(DgcnnModel, BlocksAfterTheFirstAllocateNothing) {
-  const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
-  const NpyArray big = read_npy_f32(kDir + "block_c6_n4096.npy");
-  const NpyArray small = read_npy_f32(kDir + "block_c6_n1024.npy");
+  const DgcnnModel model = DgcnnModel::load(kDgcnnDataDir + "model_c6.safetensors");
+  const NpyArray big = read_npy_f32(kDgcnnDataDir + "block_c6_n4096.npy");
+  const NpyArray small = read_npy_f32(kDgcnnDataDir + "block_c6_n1024.npy");
   DgcnnWorkspace ws;
   std::vector<float> logits(big.shape[0] * model.classes());
   model.forward(big.values.data(), big.shape[0], logits.data(), ws);
@@ -120,7 +121,7 @@ TEST(DgcnnModel, BlocksAfterTheFirstAllocateNothing) {
 }
 
 TEST(DgcnnModel, RejectsNonFiniteInput) {
-  const DgcnnModel model = DgcnnModel::load(kDir + "model_c6.safetensors");
+  const DgcnnModel model = DgcnnModel::load(kDgcnnDataDir + "model_c6.safetensors");
   std::vector<float> block(64 * 6, 0.5f);
   block[10 * 6 + 2] = std::nanf("");
   std::vector<float> logits(64 * model.classes());

@@ -16,25 +16,18 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "tests/semantic/labelled_points.hpp"
 
 namespace sarmap {
 namespace {
 
-constexpr auto kInclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
-constexpr auto kWall = static_cast<std::uint8_t>(ClassId::Wall);
+using testing::add;
+using testing::count;
+using testing::labelled;
+using testing::kWall;
+using testing::kInclined;
 
 const double kTan20 = std::tan(20.0 * std::numbers::pi / 180.0);
-
-void add(PointBuffer& points, double x, double y, double z, std::uint8_t label) {
-  points.push_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
-  points.labels().back() = label;
-}
-
-PointBuffer labelled() {
-  PointBuffer points;
-  points.enable_labels();
-  return points;
-}
 
 // The deck: x in [0, 1], y in [0, 0.6], rising 20 degrees along x (to
 // 0.364 m), on a 2 cm grid with 3 mm noise, labelled inclined ramp.
@@ -55,10 +48,6 @@ std::size_t add_side(PointBuffer& points) {
     for (double z = 0.0; z <= x * kTan20 - 0.03; z += 0.02, ++added) add(points, x, -0.005, z, kWall);
   }
   return added;
-}
-
-std::size_t count(const PointBuffer& points, std::uint8_t label) {
-  return static_cast<std::size_t>(std::count(points.labels().begin(), points.labels().end(), label));
 }
 
 TEST(RampSideFaces, TheSideUnderADeckBecomesRamp) {

@@ -13,14 +13,16 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "tests/semantic/labelled_points.hpp"
 
 namespace sarmap {
 namespace {
 
-constexpr auto kInclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
-constexpr auto kWall = static_cast<std::uint8_t>(ClassId::Wall);
-constexpr auto kOther = static_cast<std::uint8_t>(ClassId::Other);
-constexpr auto kFlat = static_cast<std::uint8_t>(ClassId::FlatRamp);
+using testing::count;
+using testing::kInclined;
+using testing::kWall;
+using testing::kOther;
+using testing::kFlat;
 
 // A 1.2 m x 0.45 m patch of the plane through the origin that rises at
 // `slope_deg` along x (90: a wall facing x), on a 2 cm grid with 1 cm noise
@@ -40,10 +42,6 @@ PointBuffer plane(double slope_deg, std::uint8_t label, double span = 0.45) {
     }
   }
   return points;
-}
-
-std::size_t count(const PointBuffer& points, std::uint8_t label) {
-  return static_cast<std::size_t>(std::count(points.labels().begin(), points.labels().end(), label));
 }
 
 TEST(SteepSurfaceVeto, RampLabelsOnAWallBandBecomeWall) {

@@ -15,24 +15,17 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "tests/semantic/labelled_points.hpp"
 
 namespace sarmap {
 namespace {
 
-constexpr auto kOther = static_cast<std::uint8_t>(ClassId::Other);
-constexpr auto kWall = static_cast<std::uint8_t>(ClassId::Wall);
-constexpr auto kTerrain = static_cast<std::uint8_t>(ClassId::Terrain);
-
-void add(PointBuffer& points, double x, double y, double z, std::uint8_t label) {
-  points.push_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
-  points.labels().back() = label;
-}
-
-PointBuffer labelled() {
-  PointBuffer points;
-  points.enable_labels();
-  return points;
-}
+using testing::add;
+using testing::count;
+using testing::labelled;
+using testing::kOther;
+using testing::kWall;
+using testing::kTerrain;
 
 // A vertical strip 0.4 m high from (x0, y0) along the horizontal direction
 // at `heading_deg`, `length` long, on a 2 cm grid.
@@ -52,10 +45,6 @@ void add_box(PointBuffer& points, double x0, double y0, double side) {
       add(points, x0, y0 + u, z, kOther), add(points, x0 + side, y0 + u, z, kOther);
     }
   }
-}
-
-std::size_t count(const PointBuffer& points, std::uint8_t label) {
-  return static_cast<std::size_t>(std::count(points.labels().begin(), points.labels().end(), label));
 }
 
 TEST(WallBands, ALongBandLabelledOtherBecomesWall) {

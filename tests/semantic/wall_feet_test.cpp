@@ -13,23 +13,16 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "tests/semantic/labelled_points.hpp"
 
 namespace sarmap {
 namespace {
 
-constexpr auto kTerrain = static_cast<std::uint8_t>(ClassId::Terrain);
-constexpr auto kWall = static_cast<std::uint8_t>(ClassId::Wall);
-
-void add(PointBuffer& points, double x, double y, double z, std::uint8_t label) {
-  points.push_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
-  points.labels().back() = label;
-}
-
-PointBuffer labelled() {
-  PointBuffer points;
-  points.enable_labels();
-  return points;
-}
+using testing::add;
+using testing::count;
+using testing::labelled;
+using testing::kWall;
+using testing::kTerrain;
 
 // Floor on x in [0, 1) at height 0 with +-3 mm of alternating noise (mean
 // 0, lowest point -3 mm), y in [0, 1), on a 2 cm grid, labelled terrain.
@@ -56,10 +49,6 @@ std::size_t add_mislabelled_floor(PointBuffer& points) {
     for (double y = 0.0; y < 0.999; y += 0.02, ++added) add(points, x, y, 0.001, kWall);
   }
   return added;
-}
-
-std::size_t count(const PointBuffer& points, std::uint8_t label) {
-  return static_cast<std::size_t>(std::count(points.labels().begin(), points.labels().end(), label));
 }
 
 TEST(WallFeet, FloorLabelledWallBecomesTerrainAndTheWallStays) {

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <set>
 
+#include "engine/core/degrees.hpp"
 #include "engine/io/scan_source.hpp"
 #include "engine/sim/arena_mesh.hpp"
 #include "engine/sim/ground_height.hpp"
@@ -23,8 +24,6 @@ namespace sarmap::sim {
 namespace {
 
 using nlohmann::json;
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // An arena seen from one explicit pose: body at `position`, heading yaw, pitch.
 json one_pose(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg, bool depth_camera = true) {

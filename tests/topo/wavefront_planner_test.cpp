@@ -18,7 +18,7 @@
 namespace sarmap::topo {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kUnreachable = std::numeric_limits<double>::infinity();
 
 bool passable(const PlanningGrid& grid, int x, int y, UnknownCells unknown) {
   if (!grid.contains({x, y})) return false;
@@ -39,13 +39,13 @@ bool step_allowed(const PlanningGrid& grid, GridCell from, GridCell to, UnknownC
 std::vector<double> reference_distances(const PlanningGrid& grid, GridCell from, UnknownCells unknown) {
   const int w = grid.width();
   const std::size_t count = grid.cells().size();
-  std::vector<double> distance(count, kInfinity);
+  std::vector<double> distance(count, kUnreachable);
   std::vector<bool> settled(count, false);
   distance[grid.index_of(from)] = 0.0;
   while (true) {
     std::size_t best = count;
     for (std::size_t i = 0; i < count; ++i) {
-      if (!settled[i] && distance[i] < kInfinity && (best == count || distance[i] < distance[best])) best = i;
+      if (!settled[i] && distance[i] < kUnreachable && (best == count || distance[i] < distance[best])) best = i;
     }
     if (best == count) break;
     settled[best] = true;
@@ -129,7 +129,7 @@ TEST(WavefrontPlanner, MatchesPlainDijkstraOnRandomGrids) {
         continue;
       }
       const double reference = reference_distances(grid, start, unknown)[grid.index_of(goal)];
-      if (reference == kInfinity) {
+      if (reference == kUnreachable) {
         EXPECT_EQ(path.status, GridPlanStatus::Unreachable);
         EXPECT_TRUE(path.cells.empty());
         ++unreachable;
