@@ -1,35 +1,15 @@
 #include "engine/pipeline/checkpoint.hpp"
 
 #include <cstdint>
-#include <limits>
 #include <string_view>
 
 #include "engine/core/error.hpp"
-#include "engine/io/atomic_file.hpp"
-#include "engine/io/file_bytes.hpp"
-#include "engine/io/sha256.hpp"
+#include "engine/io/digested_file.hpp"
 
 namespace sarmap::pipeline {
 namespace {
 
-constexpr std::string_view kMagic = "SARMAPCK";
-constexpr std::size_t kDigestChars = 64;
-
-// The file's bytes, after checking the trailing digest. A checkpoint is no
-// input from outside: it may be as large as the state it holds, so the input
-// limits on file size do not apply.
-FileBytes read_verified(const std::filesystem::path& file) {
-  FileBytes file_bytes = read_file_bytes(file, std::numeric_limits<std::uint64_t>::max());
-  const std::string_view bytes = file_bytes.view();
-  if (bytes.size() < kMagic.size() + kDigestChars || bytes.substr(0, kMagic.size()) != kMagic) {
-    throw Error(ErrorCode::Parse, file.string() + ": not a sarmap checkpoint");
-  }
-  const std::string_view stored = bytes.substr(bytes.size() - kDigestChars);
-  if (sha256_hex(bytes.substr(0, bytes.size() - kDigestChars)) != stored) {
-    throw Error(ErrorCode::Parse, file.string() + ": the checkpoint is damaged (its SHA-256 does not match)");
-  }
-  return file_bytes;
-}
+constexpr std::string_view kCheckpointMagic = "SARMAPCK";
 
 CheckpointHeader read_header(StateReader& in, const std::filesystem::path& file) {
   in.expect_tag("SARM");
@@ -59,15 +39,12 @@ void save_checkpoint(const std::filesystem::path& file, const CheckpointHeader& 
   out.put(header.scans);
   out.put(header.elapsed_s);
   mapper.save_state(out);
-  AtomicFileWriter writer(file);
-  writer.write(out.bytes());
-  writer.write(sha256_hex(out.bytes()));
-  writer.commit();
+  write_digested_file(file, out.bytes());
 }
 
 CheckpointHeader load_checkpoint(const std::filesystem::path& file, const std::string& fingerprint, Mapper& mapper) {
-  const FileBytes file_bytes = read_verified(file);
-  StateReader in(file_bytes.view().substr(0, file_bytes.size() - kDigestChars), file.string());
+  const FileBytes file_bytes = read_digested_file(file, kCheckpointMagic, "checkpoint");
+  StateReader in(digested_body(file_bytes), file.string());
   CheckpointHeader header = read_header(in, file);
   if (header.fingerprint != fingerprint) {
     throw Error(ErrorCode::InvalidArgument,
