@@ -133,18 +133,24 @@ class Mapper {
   // same map frame, or another part of the sequence): finishes both, then
   // the metric map merges voxel by voxel (metric::merge_into), the kept
   // semantic points by voxel (a voxel this Mapper holds keeps its point),
-  // the segments by the scan-by-scan merge rule (SegmentMap::merge), and
-  // the topological map is rebuilt from the merged segments and map; the
-  // profile takes `other`'s scans. `other` keeps its maps. A merged Mapper
-  // is a finished map: it takes no more scans (integrate and
-  // integrate_stream throw) and finish() does nothing, since its
-  // classifier's memory holds one side only; it may take further merges, and
+  // the classifier of the accumulated map's labelled point map by cell (the
+  // kept points and voxels take their classes from it), the segments by the
+  // scan-by-scan merge rule (SegmentMap::merge), and the topological map is
+  // rebuilt from the merged segments and map; the profile takes `other`'s
+  // scans. `other` keeps its maps. A merged Mapper is a finished map: it
+  // takes no more scans (integrate and integrate_stream throw) and finish()
+  // does nothing, since the classifier's block schedule and ramp-deck memory
+  // hold one side only; it may take further merges, and
   // its state saves and loads (save_state) as a merged Mapper's, so merges
   // can reduce on other processes. Throws sarmap::Error (InvalidArgument) naming both values when
   // the metric map settings, the segment or kept-point voxel, or the
   // classifier differ, or for a Mapper merged into itself; nothing is
-  // changed then.
-  MapperMergeCounts merge(Mapper& other);
+  // changed then. `other_to_this` carries `other`'s map frame into this
+  // one's (robots whose frames differ by a known transform): the kept points
+  // and the segments' stored points and scan origins move exactly, the
+  // metric map is resampled (metric::transformed_map: exact for whole-voxel
+  // shifts and quarter turns of yaw).
+  MapperMergeCounts merge(Mapper& other, const Pose& other_to_this = {});
   bool merged() const { return merged_; }
 
   const MapperConfig& config() const { return config_; }

@@ -79,6 +79,11 @@ class DgcnnPointClassifier final : public PointClassifier {
   std::size_t forget(const std::function<bool(double, double, double)>& forget) override {
     return on_map_ ? on_map_->forget(forget) : 0;
   }
+  void merge(const PointClassifier& other, const Pose& other_to_this) override {
+    // Same name, so the same kind (Mapper::merge): on the map both or neither.
+    const auto& same_kind = static_cast<const DgcnnPointClassifier&>(other);
+    if (on_map_ && same_kind.on_map_) on_map_->merge(*same_kind.on_map_, other_to_this);
+  }
   std::size_t memory_bytes() const override {
     return on_map_ ? on_map_->map().memory_bytes() + on_map_->blocks().memory_bytes() : 0;
   }

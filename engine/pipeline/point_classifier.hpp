@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/pose.hpp"
 #include "engine/core/state_stream.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/geometric/geometric_classifier.hpp"
@@ -105,6 +106,12 @@ class PointClassifier {
   virtual std::size_t forget(const std::function<bool(double, double, double)>& forget) {
     (void)forget;
     return 0;
+  }
+  // Takes what `other`, a classifier of the same kind (Mapper::merge checks),
+  // keeps, carried into this one's frame: the labelled point maps merge by
+  // cell. Nothing kept: nothing to merge.
+  virtual void merge(const PointClassifier& other, const Pose& other_to_this) {
+    (void)other, (void)other_to_this;
   }
   // Bytes of what the classifier keeps between scans (its labelled point map).
   virtual std::size_t memory_bytes() const { return 0; }

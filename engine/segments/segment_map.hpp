@@ -22,6 +22,7 @@
 #include "engine/core/bounds.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/pose.hpp"
 #include "engine/core/state_stream.hpp"
 #include "engine/segments/labelled_voxels.hpp"
 #include "engine/segments/segment.hpp"
@@ -85,8 +86,9 @@ class SegmentMap {
   // saw (a reclassified region) come last, as reclassify() takes them. This
   // map's settings rule (max_range included). Throws sarmap::Error
   // (InvalidArgument) naming both voxel sizes when they differ, or for a map
-  // merged into itself.
-  SegmentUpdate merge(const SegmentMap& other);
+  // merged into itself. `other_to_this` carries other's frame into this
+  // map's (points and scan origins; the identity for maps of one frame).
+  SegmentUpdate merge(const SegmentMap& other, const Pose& other_to_this = {});
 
   // Live segments, in id order.
   std::vector<const Segment*> segments() const;

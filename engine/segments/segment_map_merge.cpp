@@ -31,7 +31,7 @@ PointBuffer labelled_points(const LabelledVoxels& voxels, const std::vector<std:
 
 }  // namespace
 
-SegmentUpdate SegmentMap::merge(const SegmentMap& other) {
+SegmentUpdate SegmentMap::merge(const SegmentMap& other, const Pose& other_to_this) {
   if (&other == this) throw Error(ErrorCode::InvalidArgument, "segments: a map cannot be merged into itself");
   if (other.voxels_.voxel() != voxels_.voxel()) {
     throw Error(ErrorCode::InvalidArgument, "segments: cannot merge a map thinned to " +
@@ -46,12 +46,17 @@ SegmentUpdate SegmentMap::merge(const SegmentMap& other) {
     const std::uint32_t scan = other.voxels_.scan[k];
     (scan < by_scan.size() ? by_scan[scan] : without_scan).push_back(k);
   }
+  const auto moved = [&](const std::vector<std::uint32_t>& indices) {
+    PointBuffer points = labelled_points(other.voxels_, indices);
+    other_to_this.apply(points);
+    return points;
+  };
   SegmentUpdate total;
   for (std::size_t scan = 0; scan < by_scan.size(); ++scan) {
     if (by_scan[scan].empty()) continue;
-    total += integrate(labelled_points(other.voxels_, by_scan[scan]), other.origins_[scan]);
+    total += integrate(moved(by_scan[scan]), other_to_this * other.origins_[scan]);
   }
-  if (!without_scan.empty()) total += reclassify(labelled_points(other.voxels_, without_scan));
+  if (!without_scan.empty()) total += reclassify(moved(without_scan));
   return total;
 }
 

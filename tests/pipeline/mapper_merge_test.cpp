@@ -1,7 +1,8 @@
 // Mapper::merge: the parts of one simulated sequence mapped apart and merged
 // give the whole sequence's maps: the metric map exactly where one part saw a
 // voxel, the kept points exactly, the segments by the merge rule; a merged
-// Mapper takes no more scans and its state loads as a merged one; Mappers
+// Mapper takes no more scans and its state loads as a merged one; a Mapper
+// carried by a quarter turn and a whole-voxel shift lands exactly; Mappers
 // that cannot merge say why.
 #include "engine/pipeline/mapper.hpp"
 
@@ -11,8 +12,11 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "engine/core/state_stream.hpp"
 #include "engine/sim/arena.hpp"
@@ -144,6 +148,48 @@ TEST(MapperMerge, TwoHalvesMergedGiveTheWholeSequencesMaps) {
   EXPECT_GT(nodes, 10);
   EXPECT_NEAR(static_cast<double>(first.topo_map().nodes().size()), nodes, 0.2 * nodes);
   EXPECT_EQ(first.profile().scan_count(), whole.profile().scan_count());
+}
+
+// Another robot's map in a frame turned a quarter and shifted by whole
+// voxels: merged into an empty Mapper, every voxel, kept point and surface
+// lands where the transform says.
+TEST(MapperMerge, AMapperCarriedByAKnownTransformLandsWhereItSays) {
+  const auto source = mapped(0, kFrames / 2);
+  const Pose turn(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                  Eigen::Vector3d(3.0, -2.0, 0.5));
+  Mapper merged(merge_config(), sim::sensor_info(default_arena().sensor));
+  merged.merge(*source, turn);
+  const metric::MetricMap& from = source->metric_map();
+  const metric::MetricMap& to = merged.metric_map();
+  EXPECT_EQ(to.counts().known, from.counts().known);
+  for (const metric::VoxelKey& key : voxel_keys(from)) {
+    const metric::SemanticVoxel v = voxel(*source, key);
+    if (!v.known()) continue;
+    const Eigen::Vector3d c = turn * from.center_of(key);
+    const metric::SemanticVoxel w = voxel(merged, metric::key_of(c.x(), c.y(), c.z(), to.inv_resolution()));
+    ASSERT_EQ(w.log_odds, v.log_odds);
+    ASSERT_TRUE(w.evidence == v.evidence);
+  }
+  // The kept points, one by one.
+  const PointBuffer& points = source->semantic_points();
+  ASSERT_EQ(merged.semantic_points().size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p = turn * Eigen::Vector3d(points.x()[i], points.y()[i], points.z()[i]);
+    const PointBuffer& moved = merged.semantic_points();
+    ASSERT_NEAR(moved.x()[i], p.x(), 1e-5);
+    ASSERT_NEAR(moved.y()[i], p.y(), 1e-5);
+    ASSERT_NEAR(moved.z()[i], p.z(), 1e-5);
+    ASSERT_EQ(moved.labels()[i], points.labels()[i]);
+  }
+  // The surfaces: as many per class, the same areas, turned normals.
+  const auto source_area = area_by_class(*source), merged_area = area_by_class(merged);
+  ASSERT_EQ(merged_area.size(), source_area.size());
+  for (const auto& [label, area] : source_area) {
+    EXPECT_EQ(merged.segment_map().of_class(label).size(), source->segment_map().of_class(label).size())
+        << class_info(label).name;
+    EXPECT_NEAR(merged_area.at(label), area, 0.02 * area) << class_info(label).name;
+  }
+  EXPECT_GT(merged.topo_map().nodes().size(), 5u);
 }
 
 TEST(MapperMerge, MergesOfMergesGiveTheSameKeptPointsAsOneMapper) {

@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <map>
 #include <tuple>
+
+#include <Eigen/Geometry>
 
 #include "engine/core/error.hpp"
 #include "engine/semantic/dgcnn/block_partition.hpp"
@@ -99,6 +102,59 @@ TEST(LabelledPointMap, FusionTakesABlockOutExactlyInAnyOrder) {
   map.fuse(all, blocks[4], -1);
   for (std::uint32_t p = 0; p < map.size(); ++p) EXPECT_EQ(map.best_channel(p), -1);
   EXPECT_THROW(map.fuse(all, std::vector<std::uint8_t>(3), +1), Error);
+}
+
+// Merging against a reference: each of the other map's points, carried by
+// the transform, lands in its cell; a new cell takes the point with its
+// sums and block count, a shared cell keeps its own point and adds them.
+TEST(LabelledPointMap, MergeAddsNewCellsAndSumsSharedOnes) {
+  const std::size_t classes = 3;
+  LabelledPointMap here(0.05, classes), other(0.05, classes);
+  std::vector<std::uint32_t> added;
+  here.insert(random_points(600, 3, 0.5f), added);
+  other.insert(random_points(600, 4, 0.5f), added);
+  std::mt19937 rng(6);
+  std::uniform_int_distribution<int> score(0, 255);
+  const auto fuse_random = [&](LabelledPointMap& map, int times) {
+    std::vector<std::uint32_t> all(map.size());
+    for (std::uint32_t p = 0; p < map.size(); ++p) all[p] = p;
+    for (int t = 0; t < times; ++t) {
+      std::vector<std::uint8_t> block(all.size() * classes);
+      for (auto& v : block) v = static_cast<std::uint8_t>(score(rng));
+      map.fuse(all, block, +1);
+    }
+  };
+  fuse_random(here, 2);
+  fuse_random(other, 1);
+  const LabelledPointMap before = here;
+  // A quarter turn and a whole-cell shift: other's cells land on cells.
+  const Pose turn(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+                  Eigen::Vector3d(0.25, 0.0, 0.0));
+  const std::size_t new_points = here.merge(other, turn);
+  EXPECT_EQ(here.size(), before.size() + new_points);
+  std::size_t shared = 0;
+  for (std::uint32_t p = 0; p < other.size(); ++p) {
+    const Eigen::Vector3d at = turn * Eigen::Vector3d(other.points().x()[p], other.points().y()[p], other.points().z()[p]);
+    const std::uint32_t q = here.find(at.x(), at.y(), at.z());
+    ASSERT_NE(q, LabelledPointMap::kNoPoint);
+    const std::uint32_t old = q < before.size() ? q : LabelledPointMap::kNoPoint;
+    shared += old != LabelledPointMap::kNoPoint;
+    EXPECT_EQ(here.hits(q), other.hits(p) + (old != LabelledPointMap::kNoPoint ? before.hits(old) : 0));
+    for (std::size_t c = 0; c < classes; ++c) {
+      const std::uint32_t mine = old != LabelledPointMap::kNoPoint ? before.score_sums(old)[c] : 0;
+      EXPECT_EQ(here.score_sums(q)[c], other.score_sums(p)[c] + mine);
+    }
+    if (old == LabelledPointMap::kNoPoint) EXPECT_NEAR(here.points().x()[q], at.x(), 1e-6);
+  }
+  EXPECT_GT(shared, 10u);
+  EXPECT_EQ(new_points + shared, other.size());
+  // Another cell size or class count is refused, and nothing changes.
+  LabelledPointMap coarse(0.1, classes), fewer(0.05, 2);
+  coarse.insert(random_points(50, 7, 0.5f), added);
+  const std::size_t size = here.size();
+  EXPECT_THROW(here.merge(coarse, Pose()), Error);
+  EXPECT_THROW(here.merge(fewer, Pose()), Error);
+  EXPECT_EQ(here.size(), size);
 }
 
 TEST(LabelledPointMap, StateReloadsAndRefusesAnotherCell) {

@@ -171,9 +171,19 @@ std::size_t DgcnnMapClassifier::label_points(PointBuffer& points,
   return unknown;
 }
 
+void DgcnnMapClassifier::merge(const DgcnnMapClassifier& other, const Pose& other_to_this) {
+  map_.merge(other.map_, other_to_this);
+  blocks_classified_ += other.blocks_classified_;
+  changed_.clear();
+}
+
 std::size_t DgcnnMapClassifier::relabel(PointBuffer& points) const {
   std::vector<std::uint32_t> of_point(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) of_point[i] = map_.find(points.x()[i], points.y()[i], points.z()[i]);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+    of_point[i] = map_.find(x, y, z);
+    if (of_point[i] == LabelledPointMap::kNoPoint) of_point[i] = map_.nearest_classified(x, y, z);
+  }
   const std::size_t unknown = label_points(points, of_point);
   veto_steep_inclined_ramps(points, settings_.ramp_veto);
   return unknown;

@@ -64,10 +64,17 @@ class DgcnnMapClassifier {
   // scores of the rest, so no point's class changes. Returns how many.
   template <class Predicate>
   std::size_t forget(Predicate&& forget);
+  // Takes `other`'s labelled point map, carried into this one's frame
+  // (LabelledPointMap::merge): what a merged Mapper's kept points and
+  // voxels take their classes from. The block schedule stays this map's: a
+  // merged map is classified no further. Throws as LabelledPointMap::merge.
+  void merge(const DgcnnMapClassifier& other, const Pose& other_to_this);
   // Sets labels and score channels of `points` from the map points of their
   // cells (unknown and zeros where there is none or it has no class yet),
-  // without adding them, then applies the veto as classify() does. Returns
-  // how many stay unknown.
+  // without adding them, then applies the veto as classify() does. A point
+  // whose cell holds no map point (cells of a map merged from another frame
+  // do not line up with its points) borrows its classified neighbour's
+  // class, as an unclassified map point does. Returns how many stay unknown.
   std::size_t relabel(PointBuffer& points) const;
 
   const LabelledPointMap& map() const { return map_; }

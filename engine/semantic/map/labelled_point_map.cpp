@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/metres_text.hpp"
 #include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
@@ -50,6 +51,26 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
   sums_.resize(points_.size() * classes_, 0);
   hits_.resize(points_.size(), 0);
   return of_point;
+}
+
+std::size_t LabelledPointMap::merge(const LabelledPointMap& other, const Pose& other_to_this) {
+  if (other.cell_ != cell_ || other.classes_ != classes_) {
+    throw Error(ErrorCode::InvalidArgument,
+                "merge: cannot merge a labelled point map of " + metres_text(other.cell_) + " cells and " +
+                    std::to_string(other.classes_) + " classes into one of " + metres_text(cell_) + " cells and " +
+                    std::to_string(classes_) + " classes");
+  }
+  PointBuffer moved = other.points_;
+  other_to_this.apply(moved);
+  std::vector<std::uint32_t> added;
+  const std::vector<std::uint32_t> of_point = insert(moved, added);
+  for (std::size_t p = 0; p < of_point.size(); ++p) {
+    const std::uint32_t q = of_point[p];
+    if (q == kNoPoint) continue;
+    for (std::size_t c = 0; c < classes_; ++c) sums_[q * classes_ + c] += other.sums_[p * classes_ + c];
+    hits_[q] += other.hits_[p];
+  }
+  return added.size();
 }
 
 std::uint32_t LabelledPointMap::find(double x, double y, double z) const {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/core/point_buffer.hpp"
+#include "engine/core/pose.hpp"
 #include "engine/core/state_stream.hpp"
 #include "engine/semantic/grid_keys.hpp"
 
@@ -74,6 +75,14 @@ class LabelledPointMap {
   // The channel with the highest mean score (the first on ties), or -1 when
   // unclassified.
   int best_channel(std::uint32_t p) const;
+
+  // Takes `other`'s points, carried into this map's frame by `other_to_this`:
+  // a cell this map lacks takes the other's point with its scores; a cell
+  // both hold keeps this map's point and adds the other's score sums and
+  // block counts to it (its mean is then over both maps' blocks). Returns
+  // how many points were added. Throws sarmap::Error (InvalidArgument)
+  // naming both for another cell size or class count, before any change.
+  std::size_t merge(const LabelledPointMap& other, const Pose& other_to_this);
 
   // Keeps only the points whose keep[p] is non-zero, in order, with their
   // cells and scores; returns for every old index its new one or kNoPoint.
