@@ -13,6 +13,7 @@
 #include "engine/metric/octomap_export.hpp"
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
+#include "engine/pipeline/mapper_file.hpp"
 #include "engine/pipeline/run_summary.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -73,6 +74,10 @@ void write_run(const Mapper& mapper, RunFolderWriter& folder, const RunRecord& r
     AtomicFileWriter w(folder.path_of(kRunSummaryName));
     w.write(run_summary_json(mapper).dump(2) + "\n");
     w.commit();
+  }
+  if (record.mapper_state) {
+    save_mapper_file(folder.path_of(kMapperFileName), mapper);
+    outputs.emplace_back(kMapperFileName);
   }
 
   nlohmann::ordered_json manifest;

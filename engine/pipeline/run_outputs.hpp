@@ -31,6 +31,9 @@ struct RunRecord {
   // Also write voxel_cubes.ply: each occupied voxel as a cube in its class
   // colour, for viewers that know no voxels (listed after voxels.ply).
   bool voxel_cubes = false;
+  // Also write mapper.state: the whole Mapper, for `sarmap merge` (listed
+  // last before the manifest; engine/pipeline/mapper_file.hpp).
+  bool mapper_state = false;
 };
 
 // manifest.json's "input": the absolute path and the SHA-256 of the file
