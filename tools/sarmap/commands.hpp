@@ -18,5 +18,6 @@ void add_classify_command(CLI::App& app);
 void add_plan_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_view_command(CLI::App& app);
+void add_merge_command(CLI::App& app);
 
 }  // namespace sarmap::cli

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   sarmap::cli::add_plan_command(app);
   sarmap::cli::add_render_command(app);
   sarmap::cli::add_view_command(app);
+  sarmap::cli::add_merge_command(app);
 
   try {
     app.parse(argc, argv);

@@ -26,6 +26,23 @@ const CLI::Validator& finite_non_negative() {
   return check;
 }
 
+std::optional<std::vector<double>> finite_number_list(const std::string& text, std::size_t count) {
+  std::vector<double> values;
+  std::size_t start = 0;
+  while (values.size() < count) {
+    const std::size_t comma = text.find(',', start);
+    const bool last = values.size() + 1 == count;
+    if (last != (comma == std::string::npos)) return std::nullopt;  // too few or too many
+    const std::string part = text.substr(start, last ? std::string::npos : comma - start);
+    char* end = nullptr;
+    const double value = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(value)) return std::nullopt;
+    values.push_back(value);
+    start = comma + 1;
+  }
+  return values;
+}
+
 const CLI::Validator& finite_positive() {
   static const CLI::Validator check([](std::string& text) { return check_number(text, false); }, "NUMBER>0");
   return check;

@@ -3,6 +3,11 @@
 // is not < 0) and unsigned options take "-1" as 2^64 - 1; these do not.
 #pragma once
 
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include <CLI/CLI.hpp>
 
 namespace sarmap::cli {
@@ -11,5 +16,8 @@ namespace sarmap::cli {
 const CLI::Validator& finite_non_negative();
 // A finite number > 0.
 const CLI::Validator& finite_positive();
+
+// `count` finite numbers separated by commas ("1,2.5,-3"), or nullopt.
+std::optional<std::vector<double>> finite_number_list(const std::string& text, std::size_t count);
 
 }  // namespace sarmap::cli

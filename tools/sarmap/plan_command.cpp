@@ -13,6 +13,7 @@
 #include "engine/topo/graph_files.hpp"
 #include "engine/topo/route_planner.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/run_route.hpp"
 
 namespace sarmap::cli {
@@ -28,27 +29,12 @@ struct PlanArgs {
 };
 
 Eigen::Vector3d parse_point(const std::string& text, const char* option) {
-  Eigen::Vector3d p;
-  std::size_t start = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const std::size_t comma = text.find(',', start);
-    const std::string part = text.substr(start, axis < 2 ? comma - start : std::string::npos);
-    if ((axis < 2 && comma == std::string::npos) || part.empty()) {
-      throw Error(ErrorCode::InvalidArgument, std::string("plan: ") + option + " must be x,y,z, got '" + text + "'");
-    }
-    std::size_t used = 0;
-    try {
-      p[axis] = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != part.size() || !std::isfinite(p[axis])) {
-      throw Error(ErrorCode::InvalidArgument,
-                  std::string("plan: ") + option + " must be three finite numbers x,y,z, got '" + text + "'");
-    }
-    start = comma + 1;
+  const auto p = finite_number_list(text, 3);
+  if (!p) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string("plan: ") + option + " must be x,y,z (three finite numbers), got '" + text + "'");
   }
-  return p;
+  return {(*p)[0], (*p)[1], (*p)[2]};
 }
 
 void run_plan(const PlanArgs& a) {

@@ -23,6 +23,7 @@
 #include "engine/pipeline/checkpoint.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
+#include "engine/pipeline/mapper_file.hpp"
 #include "engine/pipeline/run_outputs.hpp"
 #include "engine/topo/topo_map.hpp"
 #include "tools/sarmap/number_checks.hpp"
@@ -228,6 +229,7 @@ RunSummary run_pipeline(const RunOptions& o) {
     record.scans = scans;
     record.scans_skipped = skipped.count();
     record.voxel_cubes = o.voxel_cubes;
+    record.mapper_state = o.keep_state;
     pipeline::write_run(mapper, into, record);
   };
   // The Mapper is read (a snapshot) or saved (a checkpoint) only between two
@@ -318,6 +320,7 @@ RunSummary run_pipeline(const RunOptions& o) {
       written += name + ", ";
       if (name == "voxels.ply" && o.voxel_cubes) written += "voxel_cubes.ply, ";
     }
+    if (o.keep_state) written += std::string(pipeline::kMapperFileName) + ", ";
     std::printf("wrote %smanifest.json to %s\n", written.c_str(), o.out.string().c_str());
   }
   return summary;
@@ -412,6 +415,9 @@ void add_run_command(CLI::App& app) {
   cmd->add_flag("--voxel-cubes", o->voxel_cubes,
                 "Also write voxel_cubes.ply: every occupied voxel as a cube in its class colour, for viewers "
                 "that know no voxels (as `sarmap convert --voxel-cubes`)");
+  cmd->add_flag("--keep-state", o->keep_state,
+                "Also write mapper.state: the whole Mapper (maps, kept points, segments, classifier memory, "
+                "config and sensor), so that `sarmap merge` can merge this run with others");
   cmd->add_flag("--quiet", o->quiet, "No progress line or summary");
   cmd->callback([o, cmd] {
     if (!o->config_file.empty()) {

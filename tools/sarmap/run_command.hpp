@@ -54,6 +54,8 @@ struct RunOptions {
   std::vector<std::size_t> snapshots;
   // Also write voxel_cubes.ply (each occupied voxel as a coloured cube mesh).
   bool voxel_cubes = false;
+  // Also write mapper.state (the whole Mapper), which `sarmap merge` reads.
+  bool keep_state = false;
   bool quiet = false;
   // Every Mapper setting without a field above (segments, topo, occupancy,
   // ...), from `--config`; the fields above are applied over it.

@@ -211,6 +211,11 @@ Json trajectory_layer(const fs::path& manifest_file, std::vector<std::string>& n
         "the run's scans were given as arrays, not read from a sequence folder: no trajectory is drawn");
     return nullptr;
   }
+  if (layout.get<std::string>() == "merged") {
+    // Several runs' maps (`sarmap merge`): their trajectories are in their own frames.
+    notes.push_back("the run merges several runs' maps: no trajectory is drawn");
+    return nullptr;
+  }
   if (!path.is_string()) json_fields::fail(manifest_file, "manifest", "'input.path' must be a string");
   if (layout.get<std::string>() != "sarmap") {
     if (layout.get<std::string>() != "cloud") {
