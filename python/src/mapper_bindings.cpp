@@ -19,6 +19,7 @@
 #include "engine/metric/voxel_cloud.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/pipeline/mapper_config_json.hpp"
+#include "engine/pipeline/mapper_file.hpp"
 #include "engine/pipeline/run_outputs.hpp"
 #include "engine/segments/segment_files.hpp"
 #include "engine/topo/graph_files.hpp"
@@ -245,13 +246,14 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
           "before reading the final maps; scans may still follow.")
       .def(
           "merge",
-          [](PyMapper& self, PyMapper& other) {
+          [](PyMapper& self, PyMapper& other, const py::object& transform) {
             if (&self == &other) throw py::value_error("other: a Mapper cannot be merged into itself");
+            const Pose other_to_this = transform.is_none() ? Pose() : pose_argument(transform, "transform");
             std::size_t graph_nodes = 0;
             const pipeline::MapperMergeCounts c = [&] {
               py::gil_scoped_release release;
               std::scoped_lock lock(self.mutex, other.mutex);
-              const pipeline::MapperMergeCounts counts = self.mapper.merge(other.mapper);
+              const pipeline::MapperMergeCounts counts = self.mapper.merge(other.mapper, other_to_this);
               self.dropped_non_finite += other.dropped_non_finite;
               graph_nodes = self.mapper.topo_map().nodes().size();
               return counts;
@@ -266,13 +268,15 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
             out["graph_nodes"] = graph_nodes;
             return out;
           },
-          py::arg("other"),
-          "Merges another Mapper's maps (another robot or another part of the sequence, same map frame) into "
-          "this one: both are finished, the metric map merges voxel by voxel (log-odds and class evidence "
-          "added and clamped), kept points by voxel, segments by the scan-by-scan merge rule, and the "
-          "graph is rebuilt. `other` keeps its maps. This Mapper then takes no more scans, but may take further "
-          "merges. ValueError naming both values when the resolutions, voxels or classifiers differ. Returns "
-          "the merge's counts as a dict.")
+          py::arg("other"), py::arg("transform") = py::none(),
+          "Merges another Mapper's maps (another robot or another part of the sequence) into this one: both "
+          "are finished, the metric map merges voxel by voxel (log-odds and class evidence added and "
+          "clamped), kept points by voxel, the labelled point map by cell, segments by the scan-by-scan "
+          "merge rule, and the graph is rebuilt. transform: None (same map frame) or the (4, 4) rigid "
+          "transform from other's map frame into this one's (points and segments move exactly; voxels are "
+          "resampled, exactly for whole-voxel shifts and quarter turns). `other` keeps its maps. This Mapper "
+          "then takes no more scans, but may take further merges. ValueError naming both values when the "
+          "resolutions, voxels or classifiers differ. Returns the merge's counts as a dict.")
       .def(py::pickle(
           [](PyMapper& self) {
             std::string config, state;
@@ -318,9 +322,10 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
           "Whether merge() made this Mapper (it then takes no more scans).")
       .def(
           "write",
-          [](PyMapper& self, const py::object& folder, const py::object& input) {
+          [](PyMapper& self, const py::object& folder, const py::object& input, bool keep_state) {
             const std::string out = path_argument(folder, "folder");
             pipeline::RunRecord record = run_record(input);
+            record.mapper_state = keep_state;
             locked(self, [&](PyMapper& m) {
               m.mapper.profile().set_wall_seconds(
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - m.created).count());
@@ -330,14 +335,31 @@ the maps stay as they were. Returns {"scans": mapped, "skipped": [{"frame",
               pipeline::write_run(m.mapper, writer, record);
             });
           },
-          py::arg("folder"), py::arg("input") = py::none(),
+          py::arg("folder"), py::arg("input") = py::none(), py::arg("keep_state") = false,
           "Writes the run's output folder as `sarmap run` does (write_run: map.sarmap, voxels.ply, segments, "
-          "graph, "
-          "grid, profile, summary, then manifest.json). input: the Sequence or path the scans came from, "
-          "recorded "
-          "in the manifest (None: scans from arrays). The profile's wall time is the time since the Mapper "
-          "was "
-          "made.")
+          "graph, grid, profile, summary, then manifest.json). input: the Sequence or path the scans came "
+          "from, recorded in the manifest (None: scans from arrays). keep_state: also write mapper.state, "
+          "which Mapper.load and `sarmap merge` read. The profile's wall time is the time since the Mapper "
+          "was made.")
+      .def_static(
+          "load",
+          [](const py::object& path) {
+            const std::string file = path_argument(path, "path");
+            std::unique_ptr<PyMapper> made;
+            {
+              py::gil_scoped_release release;  // loading the model and the maps takes a while
+              pipeline::load_mapper_file(
+                  file, [&](const pipeline::MapperConfig& config, const SensorInfo& sensor) -> pipeline::Mapper& {
+                    made = std::make_unique<PyMapper>(config, sensor);
+                    return made->mapper;
+                  });
+            }
+            return made;
+          },
+          py::arg("path"),
+          "A Mapper from a mapper.state file (`sarmap run --keep-state`, Mapper.write(keep_state=True)), "
+          "with the config, sensor and maps it was saved with. RuntimeError naming the file when it is "
+          "damaged, truncated or of another version.")
       .def(
           "state_at",
           [](PyMapper& self, const py::object& points) {

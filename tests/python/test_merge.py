@@ -92,3 +92,33 @@ def test_a_damaged_pickle_is_a_value_error(sequence_dir):
         sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((version, config, sensor, truncated, offered, dropped))
     with pytest.raises(ValueError, match="state"):
         sarmap.Mapper.__new__(sarmap.Mapper).__setstate__((99, config, sensor, state, offered, dropped))
+
+
+def test_a_transform_carries_the_other_map_into_this_frame(sequence_dir):
+    source = mapped(sequence_dir, range(0, 2))
+    turn = np.array([[0, -1, 0, 3.0], [1, 0, 0, -2.0], [0, 0, 1, 0.5], [0, 0, 0, 1]])
+    merged = sarmap.Mapper(LABELS_CONFIG, sensor=sarmap.open_sequence(sequence_dir).sensor)
+    merged.merge(source, transform=turn)
+    centres, classes = source.occupied_voxels()
+    moved = centres @ turn[:3, :3].T + turn[:3, 3]
+    assert np.all(merged.state_at(moved) == 2)
+    assert np.array_equal(merged.class_at(moved), source.class_at(centres))
+    with pytest.raises(ValueError, match="transform"):
+        merged.merge(mapped(sequence_dir, range(2, 3)), transform=np.eye(3))
+
+
+def test_a_written_state_loads_into_the_same_mapper(sequence_dir, tmp_path):
+    source = mapped(sequence_dir, range(0, 3))
+    source.write(tmp_path / "run", keep_state=True)
+    loaded = sarmap.Mapper.load(tmp_path / "run" / "mapper.state")
+    centres, classes = source.occupied_voxels()
+    assert np.array_equal(loaded.state_at(centres), source.state_at(centres))
+    assert loaded.scans == source.scans
+    loaded.write(tmp_path / "again")
+    for name in ["map.sarmap", "semantic_points.ply", "segments.json", "graph.json"]:
+        assert (tmp_path / "again" / name).read_bytes() == (tmp_path / "run" / name).read_bytes(), name
+    (tmp_path / "damaged.state").write_bytes(b"SARMAPMF" + b"\0" * 80)
+    with pytest.raises(ValueError, match="damaged"):
+        sarmap.Mapper.load(tmp_path / "damaged.state")
+    with pytest.raises(OSError):
+        sarmap.Mapper.load(tmp_path / "missing.state")
