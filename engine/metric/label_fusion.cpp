@@ -13,9 +13,10 @@ LabelFusion::LabelFusion(const LabelFusionSettings& s) : settings_(s) {
     throw Error(ErrorCode::InvalidArgument,
                 "label fusion: label_confidence must be in (1/6, 1), got " + std::to_string(s.label_confidence));
   }
-  if (!(s.evidence_clamp > 0.0 && s.evidence_clamp <= 120.0)) {
-    throw Error(ErrorCode::InvalidArgument,
-                "label fusion: evidence_clamp must be in (0, 120] nats, got " + std::to_string(s.evidence_clamp));
+  if (!(s.evidence_clamp > 0.0 && s.evidence_clamp <= kMaxEvidenceClamp)) {
+    throw Error(ErrorCode::InvalidArgument, "label fusion: evidence_clamp must be in (0, 21] nats (the map stores "
+                                            "evidence in one byte per class), got " +
+                                                std::to_string(s.evidence_clamp));
   }
   if (!(s.free_evidence_keep >= 0.0 && s.free_evidence_keep < 1.0)) {
     throw Error(ErrorCode::InvalidArgument, "label fusion: free_evidence_keep must be in [0, 1), got " +
@@ -41,15 +42,18 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
   const std::uint32_t classified = obs.points - unknown;
   if (classified == 0) return;
   if (settings_.fusion == ClassFusion::Histogram) {
-    int needed = 0;
-    for (std::size_t c = 1; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
-    // Counts saturate by halving every class, which keeps their ratios.
-    while (needed > 32767) {
-      for (auto& e : evidence) e = static_cast<std::int16_t>(e / 2);
-      needed = 0;
-      for (std::size_t c = 1; c < kClassCount; ++c) needed = std::max(needed, evidence[c] + int{obs.counts[c]});
+    // Counts saturate by halving every class, which keeps their ratios
+    // (a close voxel can take more points in one scan than a byte holds).
+    std::array<int, kClassCount> sums{};
+    int most = 0;
+    for (std::size_t c = 1; c < kClassCount; ++c) {
+      sums[c] = evidence[c] + int{obs.counts[c]};
+      most = std::max(most, sums[c]);
     }
-    for (std::size_t c = 1; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(evidence[c] + obs.counts[c]);
+    for (; most > kMaxEvidence; most /= 2) {
+      for (int& v : sums) v /= 2;
+    }
+    for (std::size_t c = 1; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(sums[c]);
     return;
   }
   // Bayesian: p(c | z) from the mean of the points' distributions; each class
@@ -81,10 +85,25 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
     }
   }
   const double log_pivot = std::log(p[0]);
+  std::array<double, kClassCount> exact{};
+  std::array<long, kClassCount> rounded{};
   for (std::size_t c = 1; c < kClassCount; ++c) {
-    const long delta = std::lround((std::log(p[c]) - log_pivot) * kEvidenceScale);
-    evidence[c] = static_cast<std::int16_t>(std::clamp<long>(evidence[c] + delta, -clamp_, clamp_));
+    exact[c] = evidence[c] + (std::log(p[c]) - log_pivot) * kEvidenceScale;
+    rounded[c] = std::clamp<long>(std::lround(exact[c]), -clamp_, clamp_);
   }
+  // Units of 1/6 nat can round two close classes to a tie, which dominant()
+  // would break by class id: the class the exact sums put first stays first
+  // (class 0, the pivot, wins its ties already).
+  const auto best = static_cast<std::size_t>(std::max_element(exact.begin(), exact.end()) - exact.begin());
+  for (std::size_t c = 0; c < kClassCount && best != 0; ++c) {
+    if (c == best || rounded[c] != rounded[best] || exact[c] == exact[best]) continue;
+    if (rounded[best] < clamp_) {
+      ++rounded[best];
+    } else {
+      --rounded[c];
+    }
+  }
+  for (std::size_t c = 1; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(rounded[c]);
 }
 
 ClassId LabelFusion::dominant(const ClassEvidence& evidence) {

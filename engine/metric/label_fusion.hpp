@@ -19,8 +19,13 @@ constexpr std::string_view to_string(ClassFusion fusion) {
   return fusion == ClassFusion::Bayesian ? "bayesian" : "histogram";
 }
 
-// Bayesian evidence is int16 fixed point: 1 unit = 1/256 nat (clamp <= 120 nats).
-inline constexpr double kEvidenceScale = 256.0;
+// Every evidence value stays within +-kMaxEvidence, so that the map stores
+// each in one byte (semantic_block.hpp): histogram counts saturate there
+// (by halving every class) and Bayesian evidence, fixed point at 1 unit =
+// 1/6 nat, is clamped within it (evidence_clamp <= 21 nats).
+inline constexpr int kMaxEvidence = 127;
+inline constexpr double kEvidenceScale = 6.0;
+inline constexpr double kMaxEvidenceClamp = 21.0;
 
 struct LabelFusionSettings {
   ClassFusion fusion = ClassFusion::Bayesian;
@@ -57,7 +62,8 @@ struct ClassObservation {
 class LabelFusion {
  public:
   // Throws sarmap::Error (InvalidArgument) for a confidence outside (1/6, 1),
-  // an evidence clamp outside (0, 120] or a keep fraction outside [0, 1).
+  // an evidence clamp outside (0, kMaxEvidenceClamp] or a keep fraction
+  // outside [0, 1).
   explicit LabelFusion(const LabelFusionSettings& settings = {});
 
   const LabelFusionSettings& settings() const { return settings_; }
@@ -79,7 +85,7 @@ class LabelFusion {
   }
   // The class with the most evidence (lowest id on ties); Unknown when none has any.
   static ClassId dominant(const ClassEvidence& evidence);
-  // Bayesian evidence stays within +-this, in evidence units (1/256 nat).
+  // Bayesian evidence stays within +-this, in evidence units (1/6 nat).
   int evidence_clamp_units() const { return clamp_; }
 
  private:

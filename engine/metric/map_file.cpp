@@ -1,8 +1,10 @@
 #include "engine/metric/map_file.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -20,15 +22,47 @@ namespace sarmap::metric {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'A', 'R', 'M', 'A', 'P', 'V', 'X'};
-// A voxel's values are i16 log_odds + i16 evidence[6] in both layouts:
-// version 1 stores them for every voxel (dense), version 2 compactly.
+// Version 1 stores every voxel (dense) as i16 log_odds + i16 evidence[6]
+// (layout 1), version 2 the same values compactly (layout 2), both in the
+// units of their day (log-odds 1/1024 nat, Bayesian evidence 1/256 nat);
+// version 3 stores today's values compactly, a byte each (layout 3).
 constexpr std::uint8_t kDenseLayout = 1;
-constexpr std::uint8_t kCompactLayout = 2;
-constexpr std::uint16_t kPayloadBytes = 14;
+constexpr std::uint8_t kWideCompactLayout = 2;
+constexpr std::uint8_t kCompactLayout = 3;
+constexpr std::uint16_t kWidePayloadBytes = 14;
+constexpr std::uint16_t kPayloadBytes = 7;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 1 + 1 + 2 + 8 * 8 + 8;
-constexpr std::size_t kDenseBlockBytes = 12 + kBlockVoxels * kPayloadBytes;
+constexpr std::size_t kDenseBlockBytes = 12 + kBlockVoxels * kWidePayloadBytes;
 constexpr std::size_t kMaskWords = kBlockVoxels / 64;
-constexpr std::size_t kRowBytes = kClassCount * 2;
+// Bytes of one log-odds value and of one evidence row, by version.
+std::size_t value_bytes(std::uint32_t version) { return version >= 3 ? 1 : 2; }
+std::size_t row_bytes(std::uint32_t version) { return kClassCount * value_bytes(version); }
+
+// Versions 1 and 2 in today's units: log-odds from 1/1024 to 1/32 nat,
+// Bayesian evidence from 1/256 to 1/6 nat, histogram counts halved (every
+// class, keeping their ratios) until they fit a byte; clamped as updates are.
+std::int16_t log_odds_from_wide(std::int16_t wide, const OccupancyModel& occ) {
+  if (wide == kUnknownLogOdds) return wide;
+  const long v = std::lround(wide * kLogOddsScale / 1024.0);
+  return static_cast<std::int16_t>(std::clamp<long>(v, occ.min(), occ.max()));
+}
+ClassEvidence evidence_from_wide(const ClassEvidence& wide, const LabelFusion& fusion) {
+  ClassEvidence out{};
+  if (fusion.settings().fusion == ClassFusion::Bayesian) {
+    const long clamp = fusion.evidence_clamp_units();
+    for (std::size_t c = 0; c < kClassCount; ++c) {
+      out[c] = static_cast<std::int16_t>(std::clamp<long>(std::lround(wide[c] * kEvidenceScale / 256.0), -clamp, clamp));
+    }
+    return out;
+  }
+  std::array<int, kClassCount> counts{};
+  for (std::size_t c = 0; c < kClassCount; ++c) counts[c] = std::max(0, int{wide[c]});
+  while (*std::max_element(counts.begin(), counts.end()) > kMaxEvidence) {
+    for (int& n : counts) n /= 2;
+  }
+  for (std::size_t c = 0; c < kClassCount; ++c) out[c] = static_cast<std::int16_t>(counts[c]);
+  return out;
+}
 // A compact block: key, occupancy kind, then one log-odds or 512.
 constexpr std::uint8_t kUniformOccupancy = 0;
 constexpr std::uint8_t kPerVoxelOccupancy = 1;
@@ -41,6 +75,7 @@ class Encoder {
   void u16(std::uint16_t v) { le(v, 2); }
   void u32(std::uint32_t v) { le(v, 4); }
   void u64(std::uint64_t v) { le(v, 8); }
+  void i8(std::int8_t v) { u8(static_cast<std::uint8_t>(v)); }
   void i16(std::int16_t v) { u16(static_cast<std::uint16_t>(v)); }
   void i32(std::int32_t v) { u32(static_cast<std::uint32_t>(v)); }
   void f64(double v) {
@@ -70,7 +105,16 @@ class Decoder {
   std::uint16_t u16() { return static_cast<std::uint16_t>(le(2)); }
   std::uint32_t u32() { return static_cast<std::uint32_t>(le(4)); }
   std::uint64_t u64() { return le(8); }
+  std::int8_t i8() { return static_cast<std::int8_t>(u8()); }
   std::int16_t i16() { return static_cast<std::int16_t>(u16()); }
+  // One log-odds value or evidence value as `version` stores it (1 or 2 bytes).
+  std::int16_t value(std::uint32_t version) {
+    if (version >= 3) {
+      const std::int8_t stored = i8();
+      return stored == kStoredUnknownLogOdds ? kUnknownLogOdds : std::int16_t{stored};
+    }
+    return i16();
+  }
   std::int32_t i32() { return static_cast<std::int32_t>(u32()); }
   double f64() {
     const std::uint64_t bits = u64();
@@ -96,7 +140,7 @@ std::uint32_t crc_of(const char* data, std::size_t size, std::uint32_t crc = 0) 
 }
 
 
-// The block as version 2 stores it. Uniformity and which voxels hold a row
+// The block as version 3 stores it. Uniformity and which voxels hold a row
 // are read from the values, not from how the block happens to be stored.
 void encode_compact_block(Encoder& out, const BlockKey& key, const SemanticBlock& block) {
   out.i32(key.x);
@@ -104,10 +148,10 @@ void encode_compact_block(Encoder& out, const BlockKey& key, const SemanticBlock
   out.i32(key.z);
   if (SemanticBlocks::uniform_slab(block)) {
     out.u8(kUniformOccupancy);
-    out.i16(block.log_odds(0));
+    out.i8(stored_log_odds(block.log_odds(0)));
   } else {
     out.u8(kPerVoxelOccupancy);
-    for (int l = 0; l < kBlockVoxels; ++l) out.i16(block.log_odds(l));
+    for (int l = 0; l < kBlockVoxels; ++l) out.i8(stored_log_odds(block.log_odds(l)));
   }
   const DenseVoxels voxels = block.dense();
   std::array<std::uint64_t, kMaskWords> mask{};
@@ -117,7 +161,7 @@ void encode_compact_block(Encoder& out, const BlockKey& key, const SemanticBlock
   for (std::uint64_t word : mask) out.u64(word);
   for (int l = 0; l < kBlockVoxels; ++l) {
     if ((mask[l >> 6] >> (l & 63)) & 1u) {
-      for (std::int16_t e : voxels[l].evidence) out.i16(e);
+      for (std::int16_t e : voxels[l].evidence) out.i8(static_cast<std::int8_t>(e));
     }
   }
 }
@@ -130,7 +174,8 @@ struct CompactWalk {
   enum class Outcome { Ends, RunsOut, UnknownOccupancy } outcome;
   std::size_t at;  // the end, or the block (RunsOut) or byte (UnknownOccupancy) where it stopped
 };
-CompactWalk walk_compact_blocks(const std::string& data, std::size_t at, std::size_t end, std::uint64_t count) {
+CompactWalk walk_compact_blocks(const std::string& data, std::size_t at, std::size_t end, std::uint64_t count,
+                                std::uint32_t version) {
   for (std::uint64_t b = 0; b < count; ++b) {
     const std::size_t block_at = at;
     if (end - at < 13) return {CompactWalk::Outcome::RunsOut, block_at};
@@ -139,15 +184,15 @@ CompactWalk walk_compact_blocks(const std::string& data, std::size_t at, std::si
       return {CompactWalk::Outcome::UnknownOccupancy, at + 12};
     }
     at += 13;
-    const std::size_t occupancy_bytes = kind == kUniformOccupancy ? 2 : kBlockVoxels * 2;
+    const std::size_t occupancy_bytes = (kind == kUniformOccupancy ? 1 : kBlockVoxels) * value_bytes(version);
     if (end - at < occupancy_bytes + kMaskWords * 8) return {CompactWalk::Outcome::RunsOut, block_at};
     at += occupancy_bytes;
     Decoder mask(data, at);
     std::size_t rows = 0;
     for (std::size_t w = 0; w < kMaskWords; ++w) rows += static_cast<std::size_t>(std::popcount(mask.u64()));
     at += kMaskWords * 8;
-    if (end - at < rows * kRowBytes) return {CompactWalk::Outcome::RunsOut, block_at};
-    at += rows * kRowBytes;
+    if (end - at < rows * row_bytes(version)) return {CompactWalk::Outcome::RunsOut, block_at};
+    at += rows * row_bytes(version);
   }
   return {CompactWalk::Outcome::Ends, at};
 }
@@ -214,11 +259,12 @@ MapFile read_map_file(const std::filesystem::path& path) {
   if (std::memcmp(data.data(), kMagic, 8) != 0) throw fail(0, "not a sarmap metric map (magic \"SARMAPVX\" missing)");
   Decoder d(data, 8);
   const std::uint32_t version = d.u32();
-  if (version != 1 && version != kMapFileVersion) {
+  if (version < 1 || version > kMapFileVersion) {
     throw fail(8, "unsupported version " + std::to_string(version) + " (this build reads versions 1 to " +
                       std::to_string(kMapFileVersion) + ")");
   }
-  const std::uint8_t expected_layout = version == 1 ? kDenseLayout : kCompactLayout;
+  const std::uint8_t expected_layout = version == 1 ? kDenseLayout : version == 2 ? kWideCompactLayout : kCompactLayout;
+  const std::uint16_t expected_payload = version >= 3 ? kPayloadBytes : kWidePayloadBytes;
   MetricMapSettings s;
   s.resolution = d.f64();
   const std::size_t fusion_at = d.offset();
@@ -228,10 +274,11 @@ MapFile read_map_file(const std::filesystem::path& path) {
   const std::size_t layout_at = d.offset();
   const std::uint8_t layout = d.u8();
   const std::uint16_t payload = d.u16();
-  if (layout != expected_layout || payload != kPayloadBytes) {
+  if (layout != expected_layout || payload != expected_payload) {
     throw fail(layout_at, "unsupported voxel payload layout " + std::to_string(layout) + " of " +
                               std::to_string(payload) + " bytes (version " + std::to_string(version) +
-                              " expects layout " + std::to_string(expected_layout) + " of 14 bytes)");
+                              " expects layout " + std::to_string(expected_layout) + " of " +
+                              std::to_string(expected_payload) + " bytes)");
   }
   s.occupancy.prob_hit = d.f64();
   s.occupancy.prob_miss = d.f64();
@@ -241,6 +288,8 @@ MapFile read_map_file(const std::filesystem::path& path) {
   s.fusion.label_confidence = d.f64();
   s.fusion.evidence_clamp = d.f64();
   s.fusion.free_evidence_keep = d.f64();
+  // Before version 3 the clamp could reach 120 nats; today's byte holds 21.
+  if (version < 3 && s.fusion.evidence_clamp > kMaxEvidenceClamp) s.fusion.evidence_clamp = kMaxEvidenceClamp;
   const std::size_t count_at = d.offset();
   const std::uint64_t count = d.u64();
   const std::size_t blocks_end = data.size() - 4;
@@ -263,7 +312,7 @@ MapFile read_map_file(const std::filesystem::path& path) {
                                std::to_string(data.size()) + " bytes hold at most " + std::to_string(max_blocks) +
                                " (truncated)");
     }
-    const CompactWalk walk = walk_compact_blocks(data, kHeaderBytes, blocks_end, count);
+    const CompactWalk walk = walk_compact_blocks(data, kHeaderBytes, blocks_end, count, version);
     if (walk.outcome == CompactWalk::Outcome::RunsOut) {
       throw fail(walk.at, "truncated: the file ends inside one of the " + std::to_string(count) +
                               " blocks its header declares");
@@ -286,10 +335,19 @@ MapFile read_map_file(const std::filesystem::path& path) {
     }
   }();
   const OccupancyModel& occ = map.occupancy();
+  // Versions 1 and 2 hold log-odds in 1/1024 nat: their clamp range then.
+  const auto wide = [&](double p) { return std::lround(std::log(p / (1 - p)) * 1024.0); };
+  const long min = version >= 3 ? occ.min() : wide(s.occupancy.clamp_min);
+  const long max = version >= 3 ? occ.max() : wide(s.occupancy.clamp_max);
   const auto check_log_odds = [&](std::int16_t v, std::size_t at) {
-    if (v != kUnknownLogOdds && (v < occ.min() || v > occ.max())) {
-      throw fail(at, "voxel log-odds " + std::to_string(v) + " outside the clamp range [" +
-                         std::to_string(occ.min()) + ", " + std::to_string(occ.max()) + "]");
+    if (v != kUnknownLogOdds && (v < min || v > max)) {
+      throw fail(at, "voxel log-odds " + std::to_string(v) + " outside the clamp range [" + std::to_string(min) +
+                         ", " + std::to_string(max) + "]");
+    }
+  };
+  const auto check_evidence = [&](const ClassEvidence& e, std::size_t at) {
+    if (version >= 3 && !storable_evidence(e)) {
+      throw fail(at, "class evidence -128 is outside +-" + std::to_string(kMaxEvidence));
     }
   };
   const std::int32_t max_block = static_cast<std::int32_t>((kMaxCoordinate / s.resolution) / kBlockEdge) + 1;
@@ -315,7 +373,7 @@ MapFile read_map_file(const std::filesystem::path& path) {
       const std::size_t stored = d.u8() == kUniformOccupancy ? 1 : kBlockVoxels;
       for (std::size_t l = 0; l < stored; ++l) {
         const std::size_t voxel_at = d.offset();
-        voxels[l].log_odds = d.i16();
+        voxels[l].log_odds = d.value(version);
         check_log_odds(voxels[l].log_odds, voxel_at);
       }
       if (stored == 1) {
@@ -326,12 +384,19 @@ MapFile read_map_file(const std::filesystem::path& path) {
       for (int l = 0; l < kBlockVoxels; ++l) {
         if (!((mask[l >> 6] >> (l & 63)) & 1u)) continue;
         const std::size_t row_at = d.offset();
-        for (auto& e : voxels[l].evidence) e = d.i16();
+        for (auto& e : voxels[l].evidence) e = version >= 3 ? d.i8() : d.i16();
+        check_evidence(voxels[l].evidence, row_at);
         if (no_evidence(voxels[l].evidence)) {
           throw fail(row_at, "voxel " + std::to_string(l) + " of block (" + std::to_string(key.x) + ", " +
                                  std::to_string(key.y) + ", " + std::to_string(key.z) +
                                  ") has an all-zero evidence row (a voxel without evidence holds none)");
         }
+      }
+    }
+    if (version < 3) {
+      for (SemanticVoxel& v : voxels) {
+        v.log_odds = log_odds_from_wide(v.log_odds, occ);
+        v.evidence = evidence_from_wide(v.evidence, map.fusion());
       }
     }
     map.blocks().assign(key, voxels);

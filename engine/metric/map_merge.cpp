@@ -43,11 +43,11 @@ ClassEvidence merge_evidence(const ClassEvidence& a, const ClassEvidence& b, con
     }
     return out;
   }
-  // Histogram: point counts add; past int16 every class halves, as when
-  // one map's counts saturate, which keeps their ratios.
+  // Histogram: point counts add; past kMaxEvidence every class halves, as
+  // when one map's counts saturate, which keeps their ratios.
   std::array<int, kClassCount> sum{};
   for (std::size_t c = 0; c < kClassCount; ++c) sum[c] = int{a[c]} + int{b[c]};
-  while (*std::max_element(sum.begin(), sum.end()) > 32767) {
+  while (*std::max_element(sum.begin(), sum.end()) > kMaxEvidence) {
     for (int& s : sum) s /= 2;
   }
   for (std::size_t c = 0; c < kClassCount; ++c) out[c] = static_cast<std::int16_t>(sum[c]);

@@ -87,7 +87,7 @@ MapCounts MetricMap::counts() const {
       add(occupancy_.state(block.uniform_log_odds()), kBlockVoxels);
       return;
     }
-    for (int l = 0; l < kBlockVoxels; ++l) add(occupancy_.state(block.log_odds_slab()[l]), 1);
+    for (int l = 0; l < kBlockVoxels; ++l) add(occupancy_.state(block.log_odds(l)), 1);
   });
   c.known = c.free + c.occupied;
   return c;

@@ -37,7 +37,11 @@ void MetricMap::load_state(StateReader& in) {
     const auto beyond = [max_block](std::int32_t v) { return std::abs(std::int64_t{v}) > max_block; };
     if (beyond(key.x) || beyond(key.y) || beyond(key.z)) in.fail("a map block lies beyond the map limits");
     if (loaded.find(key) != nullptr) in.fail("a map block is stored twice");
-    loaded.assign(key, in.get<DenseVoxels>());
+    const auto voxels = in.get<DenseVoxels>();
+    for (const SemanticVoxel& v : voxels) {
+      if (!Blocks::storable(v)) in.fail("a map voxel holds a value outside the stored range");
+    }
+    loaded.assign(key, voxels);
   }
   blocks_ = std::move(loaded);
 }

@@ -171,7 +171,7 @@ void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const
                               std::size_t b, const OccupancyModel& occ, const LabelFusion& fusion,
                               const std::vector<VoxelKey>& end_keys,
                               const std::vector<ClassObservation>& observations) const {
-  std::int16_t* log_odds = block.log_odds_slab();
+  std::int8_t* log_odds = block.log_odds_slab();
   // Not expanded: uniform, and the misses leave it so (prepare()).
   const bool uniform_free = log_odds == nullptr && occ.state(block.uniform_log_odds()) == VoxelState::Free;
   for (std::size_t w = 0; w < miss.size(); ++w) {
@@ -181,8 +181,9 @@ void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const
       bits &= bits - 1;
       bool free = uniform_free;
       if (log_odds != nullptr) {
-        log_odds[l] = occ.add(log_odds[l], occ.miss());
-        free = occ.state(log_odds[l]) == VoxelState::Free;
+        const std::int16_t after = occ.add(log_odds_of(log_odds[l]), occ.miss());
+        log_odds[l] = stored_log_odds(after);
+        free = occ.state(after) == VoxelState::Free;
       }
       if (!free || !block.holds_evidence(l)) continue;
       block.change_evidence(l, [&](ClassEvidence& evidence) { fusion.decay(evidence); });
@@ -191,7 +192,7 @@ void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const
   for (std::size_t h = hit_start_[b]; h != hit_start_[b + 1]; ++h) {
     const std::uint32_t u = hit_list_[h];
     const int l = local_index(end_keys[u]);
-    log_odds[l] = occ.add(log_odds[l], occ.hit());
+    log_odds[l] = stored_log_odds(occ.add(log_odds_of(log_odds[l]), occ.hit()));
     block.change_evidence(l, [&](ClassEvidence& evidence) { fusion.observe(evidence, observations[u]); });
   }
 }

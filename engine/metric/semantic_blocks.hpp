@@ -22,8 +22,8 @@ class SemanticBlocks {
   // The most one block takes: its record, a slab of log-odds, a row of
   // evidence for every voxel, and its share of the key table at its fullest
   // (four 16-byte slots and its key).
-  static constexpr std::size_t kMaxBlockBytes = sizeof(SemanticBlock) + kBlockVoxels * sizeof(std::int16_t) +
-                                                kBlockVoxels * sizeof(ClassEvidence) + 4 * 16 + 8;
+  static constexpr std::size_t kMaxBlockBytes = sizeof(SemanticBlock) + kBlockVoxels * sizeof(std::int8_t) +
+                                                kBlockVoxels * sizeof(StoredEvidence) + 4 * 16 + 8;
 
   std::size_t block_count() const { return blocks_.block_count(); }
   bool empty() const { return blocks_.empty(); }
@@ -44,12 +44,19 @@ class SemanticBlocks {
     return b ? std::optional<SemanticVoxel>(b->voxel(local_index(key))) : std::nullopt;
   }
   // Writes one voxel, creating its block. A block left uniform by such
-  // writes keeps its slab until the integrator next settles it.
+  // writes keeps its slab until the integrator next settles it. Values
+  // that do not fit their byte (storable()) throw sarmap::Error
+  // (InvalidArgument), as in set_evidence() and assign().
   void set_voxel(const VoxelKey& key, const SemanticVoxel& value);
   // Replaces voxel l's class evidence.
   void set_evidence(Block& block, int l, const ClassEvidence& evidence);
   // Writes a whole block, created if absent, in its compact form.
   void assign(const BlockKey& key, const DenseVoxels& voxels);
+  // True when the map can store the value exactly: log-odds within
+  // +-kMaxStoredLogOdds or unknown, evidence within +-kMaxEvidence.
+  static bool storable(const SemanticVoxel& value) {
+    return storable_log_odds(value.log_odds) && storable_evidence(value.evidence);
+  }
 
   // The integrator's update of a block, in three steps: prepare() (serial)
   // expands its occupancy if asked and makes room for new_rows more evidence
@@ -120,7 +127,7 @@ class SemanticBlocks {
   };
 
  private:
-  using EvidencePool = SizeClassPool<ClassEvidence, kBlockVoxels>;
+  using EvidencePool = SizeClassPool<StoredEvidence, kBlockVoxels>;
 
   void expand(Block& block);
   // Gives back the block's slab and rows storage; the record becomes empty.
@@ -130,7 +137,7 @@ class SemanticBlocks {
   void fit_rows(Block& block);
 
   BlockMap<SemanticBlock> blocks_;
-  ChunkPool<std::int16_t> occupancy_{kBlockVoxels};
+  ChunkPool<std::int8_t> occupancy_{kBlockVoxels};
   EvidencePool evidence_;
 };
 

@@ -1,8 +1,8 @@
 // What the metric map knows of a voxel: quantised occupancy log-odds and
 // evidence for every one of the six classes (no top-k approximation). The
-// map stores it compactly (semantic_block.hpp); a SemanticVoxel is the value
-// read from or written to one voxel, and a block's 512 of them in a row
-// (DenseVoxels, 14 bytes each) are what the .sarmap file and checkpoints hold.
+// map stores it compactly, a byte per value (semantic_block.hpp); a
+// SemanticVoxel is the value read from or written to one voxel, and a
+// block's 512 of them in a row (DenseVoxels) are what checkpoints hold.
 #pragma once
 
 #include <array>
@@ -14,12 +14,28 @@
 
 namespace sarmap::metric {
 
-// Occupancy log-odds are stored as int16 fixed point: 1 unit = 1/1024 nat, so
-// OctoMap's clamp range [-1.99, 3.48] uses about +-3600 of the +-32767 available
-// and a hit (0.847) or miss (-0.405) is exact to 1e-3.
-inline constexpr double kLogOddsScale = 1024.0;
+// Occupancy log-odds are int16 fixed point: 1 unit = 1/32 nat. The map stores
+// them in one byte (semantic_block.hpp), so every known value lies within
+// +-kMaxStoredLogOdds (+-3.97 nats, probabilities 0.019 to 0.981): OctoMap's
+// clamp range [-1.99, 3.48] takes -64 to 111, a hit (0.847) is 27 units and a
+// miss (-0.405) -13. OccupancyModel refuses settings that do not fit.
+inline constexpr double kLogOddsScale = 32.0;
+inline constexpr int kMaxStoredLogOdds = 127;
 // The value no update produces: a voxel never observed.
 inline constexpr std::int16_t kUnknownLogOdds = std::numeric_limits<std::int16_t>::min();
+
+// A log-odds value in its one stored byte, and back (unknown is -128). Only
+// values within +-kMaxStoredLogOdds (or unknown) survive the round trip.
+inline constexpr std::int8_t kStoredUnknownLogOdds = std::numeric_limits<std::int8_t>::min();
+inline std::int8_t stored_log_odds(std::int16_t log_odds) {
+  return log_odds == kUnknownLogOdds ? kStoredUnknownLogOdds : static_cast<std::int8_t>(log_odds);
+}
+inline std::int16_t log_odds_of(std::int8_t stored) {
+  return stored == kStoredUnknownLogOdds ? kUnknownLogOdds : std::int16_t{stored};
+}
+inline bool storable_log_odds(std::int16_t log_odds) {
+  return log_odds == kUnknownLogOdds || (log_odds >= -kMaxStoredLogOdds && log_odds <= kMaxStoredLogOdds);
+}
 
 enum class VoxelState : std::uint8_t { Unknown = 0, Free = 1, Occupied = 2 };
 

@@ -16,7 +16,7 @@
 
 namespace sarmap::pipeline {
 
-inline constexpr std::uint32_t kCheckpointVersion = 5;
+inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 struct CheckpointHeader {
   // What the run was started with (settings, input and model hashes): a

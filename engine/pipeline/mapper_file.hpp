@@ -18,7 +18,7 @@
 
 namespace sarmap::pipeline {
 
-inline constexpr std::uint32_t kMapperFileVersion = 1;
+inline constexpr std::uint32_t kMapperFileVersion = 2;
 inline constexpr const char* kMapperFileName = "mapper.state";
 
 // Written atomically. The Mapper is saved as it stands (finish() it first

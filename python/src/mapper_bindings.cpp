@@ -37,7 +37,7 @@ namespace {
 // What a pickled Mapper holds: (version, config JSON, sensor dict, Mapper
 // state bytes as a checkpoint holds them, scans offered, points dropped). The
 // state is in the machine's byte order, as checkpoints are.
-constexpr int kPickleVersion = 1;
+constexpr int kPickleVersion = 2;
 
 struct PyMapper {
   PyMapper(const pipeline::MapperConfig& config, const SensorInfo& sensor) : mapper(config, sensor) {}

@@ -91,7 +91,7 @@ TEST(CliMapInfo, JsonFiguresMatchTheMapTheFileCameFrom) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j.at("kind"), "metric_map");
   EXPECT_EQ(j.at("format"), "sarmap");
-  EXPECT_EQ(j.at("version"), 2);
+  EXPECT_EQ(j.at("version"), 3);
   EXPECT_DOUBLE_EQ(j.at("resolution").get<double>(), 0.1);
   EXPECT_EQ(j.at("class_fusion"), "bayesian");
   EXPECT_EQ(j.at("blocks").get<std::size_t>(), want.counts.blocks);
@@ -126,7 +126,7 @@ TEST(CliMapInfo, TextReportNamesResolutionCountsAndClasses) {
   const auto r = run_cli("info " + quoted((dir / "room.SARMAP").string()), dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
-  EXPECT_THAT(r.out, HasSubstr("format: sarmap metric map (version 2)\n"));
+  EXPECT_THAT(r.out, HasSubstr("format: sarmap metric map (version 3)\n"));
   EXPECT_THAT(r.out, HasSubstr("resolution: 0.1 m\n"));
   EXPECT_THAT(r.out, HasSubstr("blocks: " + std::to_string(want.counts.blocks) + " "));
   EXPECT_THAT(r.out, HasSubstr("voxels: " + std::to_string(want.counts.known) + " known: " +

@@ -153,7 +153,7 @@ TEST_F(RunFaults, TheMapBlockBudgetDefaultsToHalfTheMemory) {
   // evidence for every voxel and its share of the key table.
   EXPECT_NEAR(static_cast<double>(budget) * metric::SemanticBlocks::kMaxBlockBytes, memory / 2.0,
               memory * 0.01);
-  EXPECT_GT(metric::SemanticBlocks::kMaxBlockBytes, 512u * (2 + 12));
+  EXPECT_GT(metric::SemanticBlocks::kMaxBlockBytes, 512u * (1 + 6));
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ MetricMap empty_map(double resolution) {
 void set_voxel(MetricMap& map, const VoxelKey& k, bool occupied, ClassId cls = ClassId::Unknown) {
   metric::SemanticVoxel v = map.blocks().voxel(k).value_or(metric::SemanticVoxel{});
   v.log_odds = occupied ? map.occupancy().max() : map.occupancy().min();
-  if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 500;
+  if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 120;
   map.blocks().set_voxel(k, v);
 }
 

@@ -24,12 +24,12 @@ inline metric::MetricMap hand_made_map() {
   const metric::BlockKey a{0, 0, 0}, b{-1, 2, 0};
   for (int l = 0; l < 12; ++l) {
     metric::SemanticVoxel v{occupied, {}};
-    if (l % 6 != 0) v.evidence[l % 6] = 200;
+    if (l % 6 != 0) v.evidence[l % 6] = 100;
     map.blocks().set_voxel(metric::voxel_of(a, l), v);
   }
   for (int l = 100; l < 105; ++l) map.blocks().set_voxel(metric::voxel_of(a, l), {free, {}});
   metric::SemanticVoxel wall{occupied, {}};
-  wall.evidence[static_cast<std::size_t>(ClassId::Wall)] = 200;
+  wall.evidence[static_cast<std::size_t>(ClassId::Wall)] = 100;
   map.blocks().set_voxel(metric::voxel_of(b, 511), wall);
   map.blocks().set_voxel(metric::voxel_of(b, 0), {free, {}});
   return map;

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "engine/core/error.hpp"
 
@@ -28,11 +30,22 @@ TEST(LabelFusion, HistogramCountsAndSaturatesByHalving) {
   EXPECT_EQ(e[2], 3);
   EXPECT_EQ(e[1], 2);
   EXPECT_EQ(LabelFusion::dominant(e), ClassId::Wall);
-  e[2] = 32000;
-  e[1] = 1000;
-  f.observe(e, hard(ClassId::Wall, 1000));
-  EXPECT_EQ(e[2], 16000 + 1000);
-  EXPECT_EQ(e[1], 500);
+  // Past a byte's kMaxEvidence every class halves, the new counts included.
+  e[2] = 120;
+  e[1] = 40;
+  f.observe(e, hard(ClassId::Wall, 10));
+  EXPECT_EQ(e[2], 65);
+  EXPECT_EQ(e[1], 20);
+  // One scan can put more points in a voxel than a byte holds: they halve too.
+  ClassEvidence close{};
+  ClassObservation many = hard(ClassId::Wall, 600);
+  many.add(hard(ClassId::Terrain, 300));
+  f.observe(close, many);
+  EXPECT_EQ(close[2], 75);
+  EXPECT_EQ(close[1], 37);
+  close = {};
+  f.observe(close, hard(ClassId::InclinedRamp, 65535));
+  EXPECT_EQ(close[3], 127);
 }
 
 TEST(LabelFusion, BayesianAddsLogRatioAgainstThePivot) {
@@ -65,12 +78,44 @@ TEST(LabelFusion, BayesianUsesScoresWhenGiven) {
   EXPECT_NEAR(e[4], std::log(0.05 / 0.1) * kEvidenceScale, 1.0);
 }
 
+// Evidence in 1/6 nat rounds close classes alike; the class the scores put
+// first must still come out first (the map-level classifier's voxel classes
+// are one such observation each).
+TEST(LabelFusion, BayesianRoundingKeepsTheClassTheScoresPutFirst) {
+  const LabelFusion f;
+  ClassObservation close;
+  close.points = 1;
+  close.has_scores = true;
+  close.score_sums = {0.05f, 0.05f, 0.400f, 0.401f, 0.05f, 0.049f};  // inclined ramp just ahead of wall
+  ClassEvidence e{};
+  f.observe(e, close);
+  EXPECT_EQ(LabelFusion::dominant(e), ClassId::InclinedRamp) << e[2] << " " << e[3];
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> score(0.0f, 1.0f);
+  int checked = 0;
+  for (int trial = 0; trial < 5000; ++trial) {
+    ClassObservation o;
+    o.points = 1 + trial % 4;
+    o.has_scores = true;
+    for (float& v : o.score_sums) v = score(rng) * static_cast<float>(o.points);
+    if (trial % 2 == 0) o.score_sums[static_cast<std::size_t>(1 + trial % 5)] = o.score_sums[1 + (trial + 1) % 5] * 1.01f;
+    const auto first = static_cast<std::size_t>(std::max_element(o.score_sums.begin(), o.score_sums.end()) -
+                                                o.score_sums.begin());
+    if (std::count(o.score_sums.begin(), o.score_sums.end(), o.score_sums[first]) > 1) continue;
+    ClassEvidence from_none{};
+    f.observe(from_none, o);
+    ASSERT_EQ(static_cast<std::size_t>(LabelFusion::dominant(from_none)), first) << "trial " << trial;
+    ++checked;
+  }
+  EXPECT_GT(checked, 4900);
+}
+
 TEST(LabelFusion, DecayShrinksEvidenceGradually) {
   const LabelFusion f;
-  ClassEvidence e{0, 0, 1000, -400, 0, 0};
+  ClassEvidence e{0, 0, 100, -40, 0, 0};
   f.decay(e);
-  EXPECT_EQ(e[2], 500);
-  EXPECT_EQ(e[3], -200);
+  EXPECT_EQ(e[2], 50);
+  EXPECT_EQ(e[3], -20);
   for (int i = 0; i < 12; ++i) f.decay(e);
   EXPECT_EQ(e[2], 0);
   EXPECT_EQ(LabelFusion::dominant(ClassEvidence{}), ClassId::Unknown);
@@ -83,6 +128,10 @@ TEST(LabelFusion, RejectsBadSettings) {
   s = {};
   s.evidence_clamp = 500;
   EXPECT_THROW(LabelFusion{s}, Error);
+  s.evidence_clamp = 21.5;  // beyond what a byte holds at 1/6 nat
+  EXPECT_THROW(LabelFusion{s}, Error);
+  s.evidence_clamp = kMaxEvidenceClamp;
+  EXPECT_EQ(LabelFusion(s).evidence_clamp_units(), 126);
   s = {};
   s.free_evidence_keep = 1.0;
   EXPECT_THROW(LabelFusion{s}, Error);

@@ -6,6 +6,9 @@
 #include <zlib.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -70,18 +73,48 @@ void reseal(std::string& file) {
       crc32(0, reinterpret_cast<const Bytef*>(file.data()), static_cast<uInt>(file.size() - 4)));
   for (int i = 0; i < 4; ++i) file[file.size() - 4 + i] = static_cast<char>((crc >> (8 * i)) & 0xff);
 }
-// The map as version 1 (every voxel stored) wrote it: the 96-byte header of
-// `compact` (a version 2 file of the same map) with version 1 and layout 1,
-// then dense blocks in the same order.
-std::string version_1_file(const MetricMap& map, const std::string& compact) {
+// The map as an earlier version wrote it, in that version's units (log-odds
+// in 1/1024 nat within the clamp range of the day, Bayesian evidence in
+// 1/256 nat): version 1 every voxel, version 2 compactly. The 96-byte header
+// is `compact`'s (a version 3 file of the same map) with the version's
+// number, layout and 14-byte payload.
+std::string legacy_file(const MetricMap& map, const std::string& compact, int version) {
   std::string file = compact.substr(0, 96);
-  file[8] = 1;
-  file[21] = 1;  // payload layout, after magic, version, resolution and fusion
+  file[8] = static_cast<char>(version);
+  file[21] = static_cast<char>(version);  // payload layout, after magic, version, resolution and fusion
+  file[22] = 14;
+  file[23] = 0;
+  const OccupancySettings& occ = map.settings().occupancy;
+  const auto wide = [](double p) { return std::lround(std::log(p / (1 - p)) * 1024.0); };
+  const auto put_log_odds = [&](std::int16_t v) {
+    const long old = v == kUnknownLogOdds ? v : std::clamp<long>(v * 32L, wide(occ.clamp_min), wide(occ.clamp_max));
+    put_le(file, static_cast<std::uint16_t>(old), 2);
+  };
+  const bool bayesian = map.settings().fusion.fusion == ClassFusion::Bayesian;
+  const auto put_evidence = [&](const ClassEvidence& e) {
+    for (std::int16_t v : e) put_le(file, static_cast<std::uint16_t>(bayesian ? std::lround(v * 256.0 / 6.0) : v), 2);
+  };
   for (const BlockKey& k : map.blocks().sorted_block_keys()) {
     for (std::int32_t c : {k.x, k.y, k.z}) put_le(file, static_cast<std::uint32_t>(c), 4);
-    for (const SemanticVoxel& v : map.blocks().find(k)->dense()) {
-      put_le(file, static_cast<std::uint16_t>(v.log_odds), 2);
-      for (std::int16_t e : v.evidence) put_le(file, static_cast<std::uint16_t>(e), 2);
+    const DenseVoxels voxels = map.blocks().find(k)->dense();
+    if (version == 1) {
+      for (const SemanticVoxel& v : voxels) {
+        put_log_odds(v.log_odds);
+        put_evidence(v.evidence);
+      }
+      continue;
+    }
+    const bool uniform = std::all_of(voxels.begin(), voxels.end(),
+                                     [&](const SemanticVoxel& v) { return v.log_odds == voxels[0].log_odds; });
+    put_le(file, uniform ? 0 : 1, 1);
+    for (int l = 0; l < (uniform ? 1 : kBlockVoxels); ++l) put_log_odds(voxels[static_cast<std::size_t>(l)].log_odds);
+    std::array<std::uint64_t, kBlockVoxels / 64> mask{};
+    for (int l = 0; l < kBlockVoxels; ++l) {
+      if (!no_evidence(voxels[static_cast<std::size_t>(l)].evidence)) mask[l >> 6] |= std::uint64_t{1} << (l & 63);
+    }
+    for (std::uint64_t word : mask) put_le(file, word, 8);
+    for (const SemanticVoxel& v : voxels) {
+      if (!no_evidence(v.evidence)) put_evidence(v.evidence);
     }
   }
   file.append(4, '\0');
@@ -116,28 +149,31 @@ TEST_F(MapFileTest, RoundTripIsExact) {
   }
 }
 
-// Version 2 stores a block's log-odds once when all 512 agree and evidence
-// only where a voxel holds some; version 1 files load to the same map.
-TEST_F(MapFileTest, Version1FilesLoadToTheSameMap) {
+// Version 3 stores a block's log-odds once when all 512 agree and evidence
+// only where a voxel holds some, a byte per value; version 1 and 2 files
+// (two bytes per value, in the units of their day) load to the same map.
+TEST_F(MapFileTest, EarlierVersionsLoadToTheSameMap) {
   for (const ClassFusion fusion : {ClassFusion::Bayesian, ClassFusion::Histogram}) {
     const MetricMap map = room_map(fusion);
     save_map(map, dir_ / "m.sarmap");
     const std::string compact = bytes_of(dir_ / "m.sarmap");
-    ASSERT_EQ(compact[8], 2);
-    const std::string dense = version_1_file(map, compact);
-    EXPECT_LT(compact.size() * 3, dense.size()) << "version 2 should be far smaller than version 1";
-    write_bytes(dir_ / "v1.sarmap", dense);
-    const MetricMap back = load_map(dir_ / "v1.sarmap");
-    EXPECT_EQ(read_map_file(dir_ / "v1.sarmap").version, 1u);
-    EXPECT_EQ(read_map_file(dir_ / "m.sarmap").version, 2u);
-    ASSERT_EQ(back.blocks().sorted_block_keys(), map.blocks().sorted_block_keys());
-    for (const BlockKey& k : map.blocks().sorted_block_keys()) {
-      const DenseVoxels ours = map.blocks().find(k)->dense(), read = back.blocks().find(k)->dense();
-      EXPECT_EQ(std::memcmp(read.data(), ours.data(), sizeof(ours)), 0);
+    ASSERT_EQ(compact[8], 3);
+    EXPECT_EQ(read_map_file(dir_ / "m.sarmap").version, 3u);
+    for (const int version : {1, 2}) {
+      const std::string old = legacy_file(map, compact, version);
+      EXPECT_LT(compact.size() * (version == 1 ? 6 : 1), old.size()) << "version 3 should be smaller";
+      write_bytes(dir_ / "old.sarmap", old);
+      const MetricMap back = load_map(dir_ / "old.sarmap");
+      EXPECT_EQ(read_map_file(dir_ / "old.sarmap").version, static_cast<std::uint32_t>(version));
+      ASSERT_EQ(back.blocks().sorted_block_keys(), map.blocks().sorted_block_keys());
+      for (const BlockKey& k : map.blocks().sorted_block_keys()) {
+        const DenseVoxels ours = map.blocks().find(k)->dense(), read = back.blocks().find(k)->dense();
+        EXPECT_EQ(std::memcmp(read.data(), ours.data(), sizeof(ours)), 0) << "version " << version;
+      }
+      // Saved again, it is written as version 3, byte for byte as the map itself.
+      save_map(back, dir_ / "again.sarmap");
+      EXPECT_EQ(bytes_of(dir_ / "again.sarmap"), compact);
     }
-    // Saved again, it is written as version 2, byte for byte as the map itself.
-    save_map(back, dir_ / "again.sarmap");
-    EXPECT_EQ(bytes_of(dir_ / "again.sarmap"), compact);
   }
 }
 
@@ -156,7 +192,7 @@ TEST_F(MapFileTest, CompactBlocksStoreWhatTheVoxelsHold) {
   save_map(map, dir_ / "m.sarmap");
   const std::string file = bytes_of(dir_ / "m.sarmap");
   // Header, uniform block (key, kind, one value, mask), block with two rows, CRC.
-  EXPECT_EQ(file.size(), 96u + (12 + 1 + 2 + 64) + (12 + 1 + 1024 + 64 + 2 * 12) + 4);
+  EXPECT_EQ(file.size(), 96u + (12 + 1 + 1 + 64) + (12 + 1 + 512 + 64 + 2 * 6) + 4);
   const MetricMap back = load_map(dir_ / "m.sarmap");
   for (const BlockKey& k : {BlockKey{0, 0, 0}, BlockKey{1, 0, 0}}) {
     const DenseVoxels ours = map.blocks().find(k)->dense(), read = back.blocks().find(k)->dense();
@@ -165,7 +201,7 @@ TEST_F(MapFileTest, CompactBlocksStoreWhatTheVoxelsHold) {
   // A row of zeros where the mask says evidence is held (voxel 511's, the
   // file's last row) is refused, not read as a second way to say "none".
   std::string zero_row = file;
-  zero_row.replace(zero_row.size() - 4 - 12, 12, std::string(12, '\0'));
+  zero_row.replace(zero_row.size() - 4 - 6, 6, std::string(6, '\0'));
   reseal(zero_row);
   write_bytes(dir_ / "bad.sarmap", zero_row);
   EXPECT_NE(load_error(dir_ / "bad.sarmap").find("voxel 511 of block (1, 0, 0) has an all-zero evidence row"),
@@ -225,7 +261,7 @@ TEST_F(MapFileTest, CorruptAndTruncatedFilesNameTheProblem) {
   reseal(many);
   write_bytes(bad, many);
   EXPECT_NE(load_error(bad).find("hold at most"), std::string::npos) << load_error(bad);
-  // A version 1 header with version 2's compact blocks.
+  // A version 1 header with version 3's compact blocks.
   std::string layout = good;
   layout[8] = 1;
   reseal(layout);

@@ -78,7 +78,7 @@ TEST(MergeVoxels, AddsAndClampsAsAnObservationDoes) {
     std::mt19937 rng(7);
     std::uniform_int_distribution<int> log_odds(occupancy.min(), occupancy.max());
     std::uniform_int_distribution<int> evidence(fusion == ClassFusion::Bayesian ? -fuse.evidence_clamp_units() : 0,
-                                                fusion == ClassFusion::Bayesian ? fuse.evidence_clamp_units() : 32767);
+                                                fusion == ClassFusion::Bayesian ? fuse.evidence_clamp_units() : kMaxEvidence);
     for (int trial = 0; trial < 2000; ++trial) {
       SemanticVoxel a, b;
       a.log_odds = trial % 7 == 0 ? kUnknownLogOdds : static_cast<std::int16_t>(log_odds(rng));
@@ -103,7 +103,7 @@ TEST(MergeVoxels, AddsAndClampsAsAnObservationDoes) {
         if (fusion == ClassFusion::Bayesian) {
           EXPECT_EQ(ab.evidence[c], std::clamp(sum, -fuse.evidence_clamp_units(), fuse.evidence_clamp_units()));
         } else {
-          EXPECT_EQ(ab.evidence[c], largest > 32767 ? sum / 2 : sum) << "histogram counts, class " << c;
+          EXPECT_EQ(ab.evidence[c], largest > kMaxEvidence ? sum / 2 : sum) << "histogram counts, class " << c;
         }
       }
     }

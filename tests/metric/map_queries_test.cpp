@@ -85,16 +85,16 @@ TEST(CoarseView, AnyOccupiedChildMakesTheParentOccupiedWithSummedClass) {
   auto& blocks = map.blocks();
   // Coarse (x2) voxel (0,0,0) covers voxels 0..1 on each axis.
   blocks.set_voxel({0, 0, 0}, {map.occupancy().min(), {}});
-  blocks.set_voxel({1, 0, 0}, {map.occupancy().max(), {0, 0, 300, 0, 0, 0}});
-  blocks.set_voxel({1, 1, 0}, {map.occupancy().max(), {0, 200, 0, 0, 0, 0}});
-  blocks.set_voxel({0, 1, 1}, {map.occupancy().max(), {0, 200, 0, 0, 0, 0}});
+  blocks.set_voxel({1, 0, 0}, {map.occupancy().max(), {0, 0, 120, 0, 0, 0}});
+  blocks.set_voxel({1, 1, 0}, {map.occupancy().max(), {0, 100, 0, 0, 0, 0}});
+  blocks.set_voxel({0, 1, 1}, {map.occupancy().max(), {0, 100, 0, 0, 0, 0}});
   blocks.set_voxel({2, 0, 0}, {map.occupancy().min(), {}});
   const CoarseView view(map, 2);
   EXPECT_DOUBLE_EQ(view.resolution(), 0.1);
   const CoarseVoxel v = view.voxel({0, 0, 0});
   EXPECT_EQ(v.state, VoxelState::Occupied);
-  EXPECT_EQ(v.class_id, ClassId::Terrain);  // 400 terrain against 300 wall
-  EXPECT_EQ(v.evidence[1], 400);
+  EXPECT_EQ(v.class_id, ClassId::Terrain);  // 200 terrain against 120 wall
+  EXPECT_EQ(v.evidence[1], 200);
   EXPECT_EQ(view.voxel({1, 0, 0}).state, VoxelState::Free);
   EXPECT_EQ(view.voxel({1, 1, 1}).state, VoxelState::Unknown);
   EXPECT_EQ(view.voxel({50, 0, 0}).state, VoxelState::Unknown);

@@ -31,7 +31,7 @@ MetricMap random_map(double resolution, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> coord(-40, 40);
   std::uniform_int_distribution<int> odds(map.occupancy().min(), map.occupancy().max());
-  std::uniform_int_distribution<int> evidence(0, 300);
+  std::uniform_int_distribution<int> evidence(0, kMaxEvidence);
   for (int i = 0; i < 3000; ++i) {
     SemanticVoxel v{static_cast<std::int16_t>(odds(rng)), {}};
     for (auto& e : v.evidence) e = static_cast<std::int16_t>(evidence(rng));

@@ -92,7 +92,7 @@ void expect_inner_nodes_as_octomap_computes(octomap::ColorOcTree& tree) {
 
 void set_voxel(MetricMap& map, const VoxelKey& k, std::int16_t log_odds, ClassId cls) {
   SemanticVoxel v{log_odds, {}};
-  if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 300;
+  if (cls != ClassId::Unknown) v.evidence[static_cast<std::size_t>(cls)] = 120;
   map.blocks().set_voxel(k, v);
 }
 

@@ -44,13 +44,13 @@ void expect_same(const SemanticBlocks& blocks, const DenseMap& dense) {
 }
 
 SemanticVoxel random_voxel(std::mt19937& rng) {
-  static constexpr std::int16_t kLogOdds[] = {kUnknownLogOdds, -2038, -415, 0, 867, 3565};
+  static constexpr std::int16_t kLogOdds[] = {kUnknownLogOdds, -64, -13, 0, 27, 111};
   SemanticVoxel v;
   v.log_odds = kLogOdds[rng() % 6];
   if (rng() % 3 == 0) {
-    for (auto& e : v.evidence) e = static_cast<std::int16_t>(static_cast<int>(rng() % 2001) - 1000);
+    for (auto& e : v.evidence) e = static_cast<std::int16_t>(static_cast<int>(rng() % 255) - 127);
   } else if (rng() % 4 == 0) {
-    v.evidence[rng() % kClassCount] = static_cast<std::int16_t>(1 + rng() % 300);
+    v.evidence[rng() % kClassCount] = static_cast<std::int16_t>(1 + rng() % 127);
   }
   return v;
 }
@@ -105,21 +105,21 @@ TEST(SemanticBlocks, UniformBlocksHoldNoSlabUntilAVoxelDiffers) {
   SemanticBlocks blocks;
   const std::size_t empty = blocks.memory_bytes();
   DenseVoxels free_space;
-  free_space.fill(SemanticVoxel{-2038, {}});
+  free_space.fill(SemanticVoxel{-64, {}});
   for (int i = 0; i < 50; ++i) blocks.assign(BlockKey{i, 0, 0}, free_space);
   EXPECT_EQ(blocks.slabs_in_use(), 0u);
   const std::size_t uniform = blocks.memory_bytes();
   // A slab per block would be 50 KiB more: the records alone are far less.
-  EXPECT_LT(uniform - empty, 50u * kBlockVoxels * sizeof(std::int16_t));
+  EXPECT_LT(uniform - empty, 50u * kBlockVoxels * sizeof(std::int8_t));
   // Writing the same value keeps the block uniform; another value expands it.
-  blocks.set_voxel(voxel_of(BlockKey{3, 0, 0}, 7), {-2038, {}});
+  blocks.set_voxel(voxel_of(BlockKey{3, 0, 0}, 7), {-64, {}});
   EXPECT_EQ(blocks.slabs_in_use(), 0u);
-  blocks.set_voxel(voxel_of(BlockKey{3, 0, 0}, 7), {-415, {}});
+  blocks.set_voxel(voxel_of(BlockKey{3, 0, 0}, 7), {-13, {}});
   EXPECT_EQ(blocks.slabs_in_use(), 1u);
-  EXPECT_EQ(blocks.voxel(voxel_of(BlockKey{3, 0, 0}, 7))->log_odds, -415);
-  EXPECT_EQ(blocks.voxel(voxel_of(BlockKey{3, 0, 0}, 8))->log_odds, -2038);
+  EXPECT_EQ(blocks.voxel(voxel_of(BlockKey{3, 0, 0}, 7))->log_odds, -13);
+  EXPECT_EQ(blocks.voxel(voxel_of(BlockKey{3, 0, 0}, 8))->log_odds, -64);
   // Evidence alone does not expand a block.
-  blocks.set_voxel(voxel_of(BlockKey{4, 0, 0}, 9), {-2038, {0, 5, 0, 0, 0, 0}});
+  blocks.set_voxel(voxel_of(BlockKey{4, 0, 0}, 9), {-64, {0, 5, 0, 0, 0, 0}});
   EXPECT_EQ(blocks.slabs_in_use(), 1u);
   EXPECT_EQ(blocks.find(BlockKey{4, 0, 0})->row_count(), 1u);
 }
@@ -134,19 +134,19 @@ TEST(SemanticBlocks, PrepareWriteSettleCollapsesAndGivesStorageBack) {
   ASSERT_FALSE(block.uniform_occupancy());
   EXPECT_GE(block.row_capacity(), 3u);
   const std::size_t expanded = blocks.memory_bytes();
-  std::int16_t* slab = block.log_odds_slab();
-  for (int l = 0; l < kBlockVoxels; ++l) slab[l] = -415;
+  std::int8_t* slab = block.log_odds_slab();
+  for (int l = 0; l < kBlockVoxels; ++l) slab[l] = stored_log_odds(-13);
   block.put_evidence(5, {0, 0, 40, 0, 0, 0});
   EXPECT_TRUE(SemanticBlocks::uniform_slab(block));
   blocks.settle(block, true);
   EXPECT_TRUE(block.uniform_occupancy());
-  EXPECT_EQ(block.uniform_log_odds(), -415);
+  EXPECT_EQ(block.uniform_log_odds(), -13);
   EXPECT_EQ(block.evidence(5)[2], 40);
   EXPECT_EQ(blocks.slabs_in_use(), 0u);
   // The slab went back to the pool: the next expansion takes it, no new page.
   blocks.prepare(block, true, 0);
   EXPECT_EQ(block.log_odds_slab(), slab);
-  EXPECT_EQ(block.log_odds(100), -415);
+  EXPECT_EQ(block.log_odds(100), -13);
   slab[100] = 0;
   EXPECT_FALSE(SemanticBlocks::uniform_slab(block));
   blocks.settle(block, false);
@@ -167,9 +167,9 @@ TEST(SemanticBlocks, EvidenceRowsGrowAndShrinkThroughTheirClasses) {
   std::vector<int> order(kBlockVoxels);
   for (int l = 0; l < kBlockVoxels; ++l) order[static_cast<std::size_t>(l)] = (l * 197) % kBlockVoxels;
   for (const int l : order) {
-    const ClassEvidence e{0, static_cast<std::int16_t>(l + 1), 0, 0, 0, static_cast<std::int16_t>(-l)};
-    blocks.set_voxel(voxel_of(bk, l), {300, e});
-    want[static_cast<std::size_t>(l)] = {300, e};
+    const ClassEvidence e{0, static_cast<std::int16_t>(l % 127 + 1), 0, 0, 0, static_cast<std::int16_t>(-(l / 5))};
+    blocks.set_voxel(voxel_of(bk, l), {100, e});
+    want[static_cast<std::size_t>(l)] = {100, e};
   }
   const SemanticBlock& block = *blocks.find(bk);
   EXPECT_EQ(block.row_count(), 512u);
@@ -177,7 +177,7 @@ TEST(SemanticBlocks, EvidenceRowsGrowAndShrinkThroughTheirClasses) {
   EXPECT_TRUE(std::memcmp(block.dense().data(), want.data(), sizeof want) == 0);
   for (std::size_t i = 0; i < order.size(); ++i) {
     const int l = order[order.size() - 1 - i];
-    blocks.set_voxel(voxel_of(bk, l), {300, {}});
+    blocks.set_voxel(voxel_of(bk, l), {100, {}});
     want[static_cast<std::size_t>(l)].evidence = {};
     if (i % 64 == 0) {
       ASSERT_TRUE(std::memcmp(block.dense().data(), want.data(), sizeof want) == 0) << i;

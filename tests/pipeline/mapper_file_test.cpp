@@ -79,7 +79,9 @@ TEST_F(MapperFile, ALoadedMapperIsTheSavedOneAndGoesOnMappingAsIt) {
   EXPECT_EQ(loaded->sensor().type, mapper_->sensor().type);
   EXPECT_EQ(loaded->sensor().max_range, mapper_->sensor().max_range);
   ASSERT_EQ(loaded->sensor().intrinsics.has_value(), mapper_->sensor().intrinsics.has_value());
-  if (loaded->sensor().intrinsics) EXPECT_EQ(loaded->sensor().intrinsics->fx, mapper_->sensor().intrinsics->fx);
+  if (loaded->sensor().intrinsics) {
+    EXPECT_EQ(loaded->sensor().intrinsics->fx, mapper_->sensor().intrinsics->fx);
+  }
   map_fifth_frames(*loaded, 4, 7);
   map_fifth_frames(*mapper_, 4, 7);
   expect_same_maps(*loaded, *mapper_);

@@ -30,7 +30,7 @@ inline std::vector<Solid> world_solids() {
 
 inline void set_voxel(metric::MetricMap& map, const Eigen::Vector3d& p, bool occupied, ClassId label) {
   metric::SemanticVoxel v{occupied ? map.occupancy().max() : map.occupancy().min(), {}};
-  if (occupied) v.evidence[static_cast<std::size_t>(label)] = 1000;
+  if (occupied) v.evidence[static_cast<std::size_t>(label)] = 120;
   map.blocks().set_voxel(*map.key_at(p), v);
 }
 
