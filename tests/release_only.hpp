@@ -7,6 +7,12 @@
 
 #ifdef SARMAP_SANITIZED
 #define RELEASE_ONLY() GTEST_SKIP() << "accuracy or coverage case: release build only"
+inline constexpr bool kSanitizedBuild = true;
 #else
 #define RELEASE_ONLY() (void)0
+inline constexpr bool kSanitizedBuild = false;
 #endif
+// Loops that try many cases of one kind (bytes flipped one by one, runs
+// killed at random moments) take fewer under the sanitizers, as
+// `kSanitizedBuild ? fewer : all`: each case costs ten times as much there,
+// and the release build and the fuzz job still take them all.

@@ -21,6 +21,7 @@
 #include "engine/io/run_folder.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/release_only.hpp"
 
 namespace sarmap {
 namespace {
@@ -138,7 +139,7 @@ TEST_F(RunResume, KilledRunsResumeToTheUninterruptedOutputs) {
 
   std::mt19937 random(20261126);
   std::uniform_real_distribution<double> moment(0.0, 1.1 * run_s);
-  constexpr int kTrials = 4, kKillsPerTrial = 3;
+  constexpr int kTrials = kSanitizedBuild ? 2 : 4, kKillsPerTrial = 3;
   int killed = 0, resumed_from_a_checkpoint = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
     SCOPED_TRACE("trial " + std::to_string(trial));

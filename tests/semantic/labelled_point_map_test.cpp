@@ -144,7 +144,9 @@ TEST(LabelledPointMap, MergeAddsNewCellsAndSumsSharedOnes) {
       const std::uint32_t mine = old != LabelledPointMap::kNoPoint ? before.score_sums(old)[c] : 0;
       EXPECT_EQ(here.score_sums(q)[c], other.score_sums(p)[c] + mine);
     }
-    if (old == LabelledPointMap::kNoPoint) EXPECT_NEAR(here.points().x()[q], at.x(), 1e-6);
+    if (old == LabelledPointMap::kNoPoint) {
+      EXPECT_NEAR(here.points().x()[q], at.x(), 1e-6);
+    }
   }
   EXPECT_GT(shared, 10u);
   EXPECT_EQ(new_points + shared, other.size());
