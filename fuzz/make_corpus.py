@@ -100,10 +100,13 @@ def npy(shape, values, version=(1, 0), descr="<f4", fortran=False):
 
 
 # --- map.sarmap (without its trailing CRC: map_file_fuzz.cpp appends it) ----
-def sarmap_map(blocks, version=2):
-    """blocks: [(key, voxels)], voxels(v) -> (log_odds, evidence[6])."""
+def sarmap_map(blocks, version=3):
+    """blocks: [(key, voxels)], voxels(v) -> (log_odds, evidence[6]); version 3 takes a byte per
+    value (log-odds -128 unknown), versions 1 and 2 two (-32768 unknown)."""
+    value = "b" if version >= 3 else "h"
     head = b"SARMAPVX" + struct.pack("<I", version) + struct.pack("<d", 0.05) + bytes([1, version])
-    head += struct.pack("<H", 14) + struct.pack("<8d", 0.7, 0.4, 0.12, 0.97, 0.5, 0.9, 20.0, 0.5)
+    head += struct.pack("<H", 7 if version >= 3 else 14)
+    head += struct.pack("<8d", 0.7, 0.4, 0.12, 0.97, 0.5, 0.9, 20.0, 0.5)
     head += struct.pack("<Q", len(blocks))
     for key, voxels in blocks:
         values = [voxels(v) for v in range(512)]
@@ -114,9 +117,9 @@ def sarmap_map(blocks, version=2):
             continue
         log_odds = [lo for lo, _ in values]
         if len(set(log_odds)) == 1:
-            head += bytes([0]) + struct.pack("<h", log_odds[0])
+            head += bytes([0]) + struct.pack("<" + value, log_odds[0])
         else:
-            head += bytes([1]) + struct.pack("<512h", *log_odds)
+            head += bytes([1]) + struct.pack("<512" + value, *log_odds)
         mask = [0] * 8
         for v, (_, evidence) in enumerate(values):
             if any(evidence):
@@ -124,7 +127,7 @@ def sarmap_map(blocks, version=2):
         head += struct.pack("<8Q", *mask)
         for _, evidence in values:
             if any(evidence):
-                head += struct.pack("<6h", *evidence)
+                head += struct.pack("<6" + value, *evidence)
     return head
 
 
@@ -200,12 +203,16 @@ def main():
     put("depth_png", "rgb16_2x2.png", png(2, 2, [100, 200], color_type=2))
 
     mixed_block = ((1, -2, 0), lambda v: (
-        (-32768, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [256, -128, 0, 0, 512, 0])))
+        (-128, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [8, -4, 0, 0, 16, 0])))
     put("map_file", "empty_map.bin", sarmap_map([]))
     put("map_file", "one_block.bin", sarmap_map([mixed_block]))
     put("map_file", "uniform_and_mixed_blocks.bin", sarmap_map([
-        ((0, 0, 0), lambda v: (-2000, [0] * 6)), mixed_block]))
-    put("map_file", "version_1_one_block.bin", sarmap_map([mixed_block], version=1))
+        ((0, 0, 0), lambda v: (-60, [0] * 6)), mixed_block]))
+    # Earlier versions, in their units (log-odds 1/1024 nat, evidence 1/256 nat).
+    wide_block = ((1, -2, 0), lambda v: (
+        (-32768, [0] * 6) if v % 3 == 0 else (40 if v % 3 == 1 else -20, [256, -128, 0, 0, 512, 0])))
+    put("map_file", "version_1_one_block.bin", sarmap_map([wide_block], version=1))
+    put("map_file", "version_2_one_block.bin", sarmap_map([wide_block], version=2))
 
     ros_messages()
 
