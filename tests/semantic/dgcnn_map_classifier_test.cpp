@@ -129,6 +129,48 @@ TEST(DgcnnMapClassifier, FinishClassifiesEveryBlockWithUnseenPoints) {
   EXPECT_EQ(classifier.finish(), 0u);
 }
 
+// How many scans each map point waits for its class, against a reference
+// that asks every map point for its class after every scan and at the end.
+TEST(DgcnnMapClassifier, ClassDelaysMatchAReferenceAskingEveryPointAfterEveryScan) {
+  // Blocks of at least 400 map points: the edge of each scan's new strip waits.
+  DgcnnMapClassifierSettings s = settings();
+  s.min_points = 400;
+  DgcnnMapClassifier classifier(fixture_model(), s);
+  std::vector<std::uint32_t> added_at, classed_at;  // by map point; classed_at 0: not yet
+  const auto ask = [&](std::uint32_t number) {
+    for (std::uint32_t p = 0; p < classifier.map().size(); ++p) {
+      if (classed_at[p] == 0 && classifier.map_point_class(p) != ClassId::Unknown) classed_at[p] = number;
+    }
+  };
+  constexpr std::uint32_t kScans = 4;
+  for (std::uint32_t number = 1; number <= kScans; ++number) {
+    PointBuffer scan = growing_scan(static_cast<int>(number) - 1);
+    classifier.classify(scan);
+    added_at.resize(classifier.map().size(), number);  // new map points come last
+    classed_at.resize(classifier.map().size(), 0);
+    ask(number);
+  }
+  classifier.finish();
+  ask(kScans);
+  std::vector<std::uint64_t> reference;
+  std::size_t never = 0;
+  for (std::size_t p = 0; p < added_at.size(); ++p) {
+    if (classed_at[p] == 0) {
+      ++never;
+      continue;
+    }
+    const std::uint32_t delay = classed_at[p] - added_at[p];
+    if (reference.size() <= delay) reference.resize(delay + 1, 0);
+    ++reference[delay];
+  }
+  const ClassDelays& delays = classifier.class_delays();
+  EXPECT_EQ(delays.histogram(), reference);
+  EXPECT_EQ(delays.waiting(), never);
+  EXPECT_EQ(delays.recorded() + delays.waiting(), classifier.map().size());
+  EXPECT_GT(reference.size(), 1u) << "some points should wait";
+  EXPECT_GT(reference[0], 0u) << "some points should have their class at once";
+}
+
 // What a bounded map drops, the labelled point map lets go of; the rest keep
 // their scores exactly, and the classifier goes on.
 TEST(DgcnnMapClassifier, ForgettingARegionKeepsTheRestsClassesAndGoesOn) {
@@ -297,6 +339,8 @@ TEST(DgcnnMapClassifier, ALoadedStateContinuesIdentically) {
     EXPECT_TRUE(std::equal(scan.labels().begin(), scan.labels().end(), expected[k].labels().begin())) << k;
   }
   EXPECT_EQ(resumed.blocks_classified(), straight.blocks_classified());
+  EXPECT_EQ(resumed.class_delays().histogram(), straight.class_delays().histogram());
+  EXPECT_EQ(resumed.class_delays().waiting(), straight.class_delays().waiting());
   // A damaged state (a block naming a point past the map) is refused.
   std::string bytes = out.bytes();
   DgcnnMapClassifierSettings other = settings();

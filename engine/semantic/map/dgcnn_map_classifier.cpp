@@ -101,7 +101,12 @@ DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
   schedule_.add_points(map_.points(), added);
   changed_ = added;
 
+  const std::size_t waited_before = delays_.waiting();
+  delays_.added(added, ++scans_);
   stats.blocks = classify_blocks(schedule_.ready());
+  delays_.settle(
+      scans_, [&](std::uint32_t p) { return map_point_class(p) != ClassId::Unknown; },
+      stats.blocks > 0 ? 0 : waited_before);
   stats.unlabelled = label_points(scan, of_point);
   stats.vetoed_points = veto_steep_inclined_ramps(scan, settings_.ramp_veto);
   return stats;
@@ -127,7 +132,10 @@ std::size_t DgcnnMapClassifier::classify_blocks(const std::vector<MapBlock*>& re
 
 std::size_t DgcnnMapClassifier::finish() {
   changed_.clear();
-  return classify_blocks(schedule_.unfinished());
+  const std::size_t blocks = classify_blocks(schedule_.unfinished());
+  // What the last blocks give counts as arriving after the last scan.
+  delays_.settle(scans_, [&](std::uint32_t p) { return map_point_class(p) != ClassId::Unknown; });
+  return blocks;
 }
 
 ClassId DgcnnMapClassifier::map_point_class(std::uint32_t p) const {
@@ -174,6 +182,7 @@ std::size_t DgcnnMapClassifier::label_points(PointBuffer& points,
 void DgcnnMapClassifier::merge(const DgcnnMapClassifier& other, const Pose& other_to_this) {
   map_.merge(other.map_, other_to_this);
   blocks_classified_ += other.blocks_classified_;
+  delays_.merge(other.delays_);
   changed_.clear();
 }
 
@@ -194,6 +203,8 @@ void DgcnnMapClassifier::save_state(StateWriter& out) const {
   out.put<std::uint64_t>(blocks_classified_);
   map_.save_state(out);
   schedule_.save_state(out);
+  out.put(scans_);
+  delays_.save_state(out);
 }
 
 void DgcnnMapClassifier::load_state(StateReader& in) {
@@ -203,6 +214,11 @@ void DgcnnMapClassifier::load_state(StateReader& in) {
   schedule_.load_state(in);
   if (!schedule_.consistent_with(map_.size(), model_.classes())) {
     in.fail("the map blocks name points the labelled point map does not hold, or scores of another class count");
+  }
+  scans_ = in.get<std::uint32_t>();
+  delays_.load_state(in);
+  if (!delays_.consistent_with(map_.size(), scans_)) {
+    in.fail("the class delays name points the labelled point map does not hold, or later scans");
   }
   blocks_classified_ = blocks_classified;
 }

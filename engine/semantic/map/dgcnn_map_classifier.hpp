@@ -22,6 +22,7 @@
 #include "engine/core/state_stream.hpp"
 #include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
+#include "engine/semantic/map/class_delays.hpp"
 #include "engine/semantic/map/labelled_point_map.hpp"
 #include "engine/semantic/map/map_block_schedule.hpp"
 #include "engine/semantic/rules/steep_surface_veto.hpp"
@@ -92,6 +93,9 @@ class DgcnnMapClassifier {
   // The map points the last classify() added or classified again (possibly
   // with repeats): what holds classes that changed.
   const std::vector<std::uint32_t>& changed_points() const { return changed_; }
+  // How many scans each map point waited for its class (ClassDelays), and
+  // the points still waiting.
+  const ClassDelays& class_delays() const { return delays_; }
 
   void save_state(StateWriter& out) const;
   void load_state(StateReader& in);
@@ -109,6 +113,8 @@ class DgcnnMapClassifier {
   MapBlockSchedule schedule_;
   std::size_t blocks_classified_ = 0;
   std::vector<std::uint32_t> changed_;
+  std::uint32_t scans_ = 0;  // classify() calls
+  ClassDelays delays_;
 };
 
 template <class Predicate>
@@ -121,7 +127,9 @@ std::size_t DgcnnMapClassifier::forget(Predicate&& forget) {
     forgotten += 1 - keep[p];
   }
   if (forgotten == 0) return 0;
-  schedule_.renumber(map_.keep_only(keep), model_.classes());
+  const std::vector<std::uint32_t> renumbered = map_.keep_only(keep);
+  schedule_.renumber(renumbered, model_.classes());
+  delays_.renumber(renumbered);
   changed_.clear();
   return forgotten;
 }

@@ -1,0 +1,81 @@
+#include "engine/semantic/map/class_delays.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace sarmap {
+
+namespace {
+constexpr std::uint32_t kForgotten = 0xffffffffu;  // LabelledPointMap::kNoPoint
+}  // namespace
+
+void ClassDelays::added(std::span<const std::uint32_t> added, std::uint32_t scan) {
+  for (const std::uint32_t p : added) waiting_.push_back({p, scan});
+}
+
+void ClassDelays::record(std::uint32_t delay) {
+  const std::uint32_t bin = std::min(delay, kMaxDelay);
+  if (histogram_.size() <= bin) histogram_.resize(bin + 1, 0);
+  ++histogram_[bin];
+}
+
+void ClassDelays::renumber(const std::vector<std::uint32_t>& renumbered) {
+  std::size_t kept = 0;
+  for (const Waiting& w : waiting_) {
+    const std::uint32_t now = w.point < renumbered.size() ? renumbered[w.point] : kForgotten;
+    if (now != kForgotten) waiting_[kept++] = {now, w.scan};
+  }
+  waiting_.resize(kept);
+}
+
+void ClassDelays::merge(const ClassDelays& other) {
+  if (histogram_.size() < other.histogram_.size()) histogram_.resize(other.histogram_.size(), 0);
+  for (std::size_t d = 0; d < other.histogram_.size(); ++d) histogram_[d] += other.histogram_[d];
+}
+
+bool ClassDelays::consistent_with(std::size_t points, std::uint32_t scans) const {
+  return std::all_of(waiting_.begin(), waiting_.end(),
+                     [&](const Waiting& w) { return w.point < points && w.scan <= scans; });
+}
+
+std::uint64_t ClassDelays::recorded() const {
+  return std::accumulate(histogram_.begin(), histogram_.end(), std::uint64_t{0});
+}
+
+std::uint32_t ClassDelays::quantile(double fraction) const {
+  const std::uint64_t total = recorded();
+  if (total == 0) return 0;
+  // The first bin at which the running count reaches fraction x total.
+  const double target = std::clamp(fraction, 0.0, 1.0) * static_cast<double>(total);
+  std::uint64_t running = 0;
+  for (std::size_t d = 0; d < histogram_.size(); ++d) {
+    running += histogram_[d];
+    if (running > 0 && static_cast<double>(running) >= target) return static_cast<std::uint32_t>(d);
+  }
+  return static_cast<std::uint32_t>(histogram_.size() - 1);
+}
+
+void ClassDelays::save_state(StateWriter& out) const {
+  out.tag("CDLY");
+  std::vector<std::uint32_t> flat;
+  flat.reserve(2 * waiting_.size());
+  for (const Waiting& w : waiting_) {
+    flat.push_back(w.point);
+    flat.push_back(w.scan);
+  }
+  out.put_vector(flat);
+  out.put_vector(histogram_);
+}
+
+void ClassDelays::load_state(StateReader& in) {
+  in.expect_tag("CDLY");
+  const auto flat = in.get_vector<std::uint32_t>();
+  if (flat.size() % 2 != 0) in.fail("the class delays' waiting list has an odd length");
+  auto histogram = in.get_vector<std::uint64_t>();
+  if (histogram.size() > kMaxDelay + 1) in.fail("the class delays' histogram is longer than its last bin");
+  waiting_.clear();
+  for (std::size_t i = 0; i < flat.size(); i += 2) waiting_.push_back({flat[i], flat[i + 1]});
+  histogram_ = std::move(histogram);
+}
+
+}  // namespace sarmap
