@@ -76,10 +76,18 @@ Json run_summary_json(const Mapper& mapper) {
   // blocks, with the classifier of the accumulated map), to compare with the
   // metric map's bytes.
   if (const DgcnnMapClassifier* on_map = mapper.classifier().accumulated_map()) {
+    // How many scans a new surface waits for its class (labels arrive late).
+    const ClassDelays& delays = on_map->class_delays();
     j["labelled_point_map"] = {{"points", on_map->map().size()},
                                {"blocks", on_map->blocks().block_count()},
                                {"blocks_classified", on_map->blocks_classified()},
-                               {"bytes", mapper.classifier().memory_bytes()}};
+                               {"bytes", mapper.classifier().memory_bytes()},
+                               {"scans_until_class",
+                                {{"p50", delays.quantile(0.5)},
+                                 {"p95", delays.quantile(0.95)},
+                                 {"max", delays.quantile(1.0)},
+                                 {"points", delays.recorded()},
+                                 {"never", delays.waiting()}}}};
   }
   j["semantic_points"] = mapper.semantic_points().size();
 
