@@ -42,17 +42,11 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
   const std::uint32_t classified = obs.points - unknown;
   if (classified == 0) return;
   if (settings_.fusion == ClassFusion::Histogram) {
-    // Counts saturate by halving every class, which keeps their ratios
-    // (a close voxel can take more points in one scan than a byte holds).
+    // The new counts saturate too: a close voxel can take more points in
+    // one scan than a byte holds.
     std::array<int, kClassCount> sums{};
-    int most = 0;
-    for (std::size_t c = 1; c < kClassCount; ++c) {
-      sums[c] = evidence[c] + int{obs.counts[c]};
-      most = std::max(most, sums[c]);
-    }
-    for (; most > kMaxEvidence; most /= 2) {
-      for (int& v : sums) v /= 2;
-    }
+    for (std::size_t c = 1; c < kClassCount; ++c) sums[c] = evidence[c] + int{obs.counts[c]};
+    saturate_counts(sums);
     for (std::size_t c = 1; c < kClassCount; ++c) evidence[c] = static_cast<std::int16_t>(sums[c]);
     return;
   }

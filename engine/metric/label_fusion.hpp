@@ -3,6 +3,7 @@
 // recursive Bayesian update in log-odds space (paper 003), selectable.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -39,6 +40,16 @@ struct LabelFusionSettings {
 };
 
 using ClassEvidence = std::array<std::int16_t, kClassCount>;
+
+// Histogram counts past kMaxEvidence: every class halves until the largest
+// fits, which keeps their ratios (an observation, a merge, an old file).
+inline void saturate_counts(std::array<int, kClassCount>& counts) {
+  int most = 0;
+  for (const int n : counts) most = std::max(most, n);
+  for (; most > kMaxEvidence; most /= 2) {
+    for (int& n : counts) n /= 2;
+  }
+}
 
 // What the points that fell in one voxel during one scan said about its class.
 struct ClassObservation {

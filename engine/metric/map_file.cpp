@@ -57,9 +57,7 @@ ClassEvidence evidence_from_wide(const ClassEvidence& wide, const LabelFusion& f
   }
   std::array<int, kClassCount> counts{};
   for (std::size_t c = 0; c < kClassCount; ++c) counts[c] = std::max(0, int{wide[c]});
-  while (*std::max_element(counts.begin(), counts.end()) > kMaxEvidence) {
-    for (int& n : counts) n /= 2;
-  }
+  saturate_counts(counts);
   for (std::size_t c = 0; c < kClassCount; ++c) out[c] = static_cast<std::int16_t>(counts[c]);
   return out;
 }
@@ -107,14 +105,8 @@ class Decoder {
   std::uint64_t u64() { return le(8); }
   std::int8_t i8() { return static_cast<std::int8_t>(u8()); }
   std::int16_t i16() { return static_cast<std::int16_t>(u16()); }
-  // One log-odds value or evidence value as `version` stores it (1 or 2 bytes).
-  std::int16_t value(std::uint32_t version) {
-    if (version >= 3) {
-      const std::int8_t stored = i8();
-      return stored == kStoredUnknownLogOdds ? kUnknownLogOdds : std::int16_t{stored};
-    }
-    return i16();
-  }
+  // One log-odds value as `version` stores it (1 byte from version 3, else 2).
+  std::int16_t log_odds(std::uint32_t version) { return version >= 3 ? log_odds_of(i8()) : i16(); }
   std::int32_t i32() { return static_cast<std::int32_t>(u32()); }
   double f64() {
     const std::uint64_t bits = u64();
@@ -373,7 +365,7 @@ MapFile read_map_file(const std::filesystem::path& path) {
       const std::size_t stored = d.u8() == kUniformOccupancy ? 1 : kBlockVoxels;
       for (std::size_t l = 0; l < stored; ++l) {
         const std::size_t voxel_at = d.offset();
-        voxels[l].log_odds = d.value(version);
+        voxels[l].log_odds = d.log_odds(version);
         check_log_odds(voxels[l].log_odds, voxel_at);
       }
       if (stored == 1) {

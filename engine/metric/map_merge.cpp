@@ -43,13 +43,10 @@ ClassEvidence merge_evidence(const ClassEvidence& a, const ClassEvidence& b, con
     }
     return out;
   }
-  // Histogram: point counts add; past kMaxEvidence every class halves, as
-  // when one map's counts saturate, which keeps their ratios.
+  // Histogram: point counts add and saturate as one map's do.
   std::array<int, kClassCount> sum{};
   for (std::size_t c = 0; c < kClassCount; ++c) sum[c] = int{a[c]} + int{b[c]};
-  while (*std::max_element(sum.begin(), sum.end()) > kMaxEvidence) {
-    for (int& s : sum) s /= 2;
-  }
+  saturate_counts(sum);
   for (std::size_t c = 0; c < kClassCount; ++c) out[c] = static_cast<std::int16_t>(sum[c]);
   return out;
 }

@@ -34,20 +34,21 @@ OccupancyModel::OccupancyModel(const OccupancySettings& s) : settings_(s) {
           "clamp_max must be in [prob_hit, 1), got " + std::to_string(s.clamp_max));
   require(in_open_unit(s.occupied_threshold),
           "occupied_threshold must be in (0, 1), got " + std::to_string(s.occupied_threshold));
-  // The map stores log-odds in one byte (semantic_voxel.hpp).
-  const double limit = kMaxStoredLogOdds / kLogOddsScale;
-  const auto logit = [](double p) { return std::log(p / (1 - p)); };
-  require(std::lround(logit(s.clamp_max) * kLogOddsScale) <= kMaxStoredLogOdds,
-          "clamp_max must be at most " + std::to_string(1 / (1 + std::exp(-limit))) + " (log-odds " +
-              std::to_string(limit) + ": the map stores log-odds in one byte), got " + std::to_string(s.clamp_max));
-  require(std::lround(logit(s.clamp_min) * kLogOddsScale) >= -kMaxStoredLogOdds,
-          "clamp_min must be at least " + std::to_string(1 / (1 + std::exp(limit))) + " (log-odds -" +
-              std::to_string(limit) + ": the map stores log-odds in one byte), got " + std::to_string(s.clamp_min));
+  // In 1/32 nat any probability a double holds in (0, 1) fits int16
+  // (|log-odds| < 745), so quantising comes before the limits are checked.
   hit_ = quantise(s.prob_hit);
   miss_ = quantise(s.prob_miss);
   min_ = quantise(s.clamp_min);
   max_ = quantise(s.clamp_max);
   threshold_ = quantise(s.occupied_threshold);
+  // The map stores log-odds in one byte (semantic_voxel.hpp).
+  const double limit = kMaxStoredLogOdds / kLogOddsScale;
+  require(max_ <= kMaxStoredLogOdds,
+          "clamp_max must be at most " + std::to_string(1 / (1 + std::exp(-limit))) + " (log-odds " +
+              std::to_string(limit) + ": the map stores log-odds in one byte), got " + std::to_string(s.clamp_max));
+  require(min_ >= -kMaxStoredLogOdds,
+          "clamp_min must be at least " + std::to_string(1 / (1 + std::exp(limit))) + " (log-odds -" +
+              std::to_string(limit) + ": the map stores log-odds in one byte), got " + std::to_string(s.clamp_min));
   // In units of 1/32 nat a hit or miss this close to 0.5 would change nothing.
   require(hit_ > 0, "prob_hit must be at least 0.504 (log-odds 1/64: smaller steps round to none), got " +
                         std::to_string(s.prob_hit));

@@ -97,7 +97,7 @@ TEST(ClassDelays, LongWaitsShareTheLastBinAndABadStateIsRefused) {
   EXPECT_EQ(delays.quantile(0.5), ClassDelays::kMaxDelay);
   StateWriter out;
   out.tag("CDLY");
-  out.put_vector(std::vector<std::uint32_t>{1, 2, 3});  // odd: not (point, scan) pairs
+  out.put_vector(std::vector<std::uint32_t>{1, 2, 3});  // three (point, scan) pairs declared, one and a half held
   out.put_vector(std::vector<std::uint64_t>{});
   StateReader in(out.bytes(), "state");
   EXPECT_THROW(delays.load_state(in), Error);

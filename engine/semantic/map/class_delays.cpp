@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <numeric>
 
-namespace sarmap {
+#include "engine/semantic/map/labelled_point_map.hpp"
 
-namespace {
-constexpr std::uint32_t kForgotten = 0xffffffffu;  // LabelledPointMap::kNoPoint
-}  // namespace
+namespace sarmap {
 
 void ClassDelays::added(std::span<const std::uint32_t> added, std::uint32_t scan) {
   for (const std::uint32_t p : added) waiting_.push_back({p, scan});
@@ -22,8 +20,8 @@ void ClassDelays::record(std::uint32_t delay) {
 void ClassDelays::renumber(const std::vector<std::uint32_t>& renumbered) {
   std::size_t kept = 0;
   for (const Waiting& w : waiting_) {
-    const std::uint32_t now = w.point < renumbered.size() ? renumbered[w.point] : kForgotten;
-    if (now != kForgotten) waiting_[kept++] = {now, w.scan};
+    const std::uint32_t now = w.point < renumbered.size() ? renumbered[w.point] : LabelledPointMap::kNoPoint;
+    if (now != LabelledPointMap::kNoPoint) waiting_[kept++] = {now, w.scan};
   }
   waiting_.resize(kept);
 }
@@ -57,24 +55,16 @@ std::uint32_t ClassDelays::quantile(double fraction) const {
 
 void ClassDelays::save_state(StateWriter& out) const {
   out.tag("CDLY");
-  std::vector<std::uint32_t> flat;
-  flat.reserve(2 * waiting_.size());
-  for (const Waiting& w : waiting_) {
-    flat.push_back(w.point);
-    flat.push_back(w.scan);
-  }
-  out.put_vector(flat);
+  out.put_vector(waiting_);
   out.put_vector(histogram_);
 }
 
 void ClassDelays::load_state(StateReader& in) {
   in.expect_tag("CDLY");
-  const auto flat = in.get_vector<std::uint32_t>();
-  if (flat.size() % 2 != 0) in.fail("the class delays' waiting list has an odd length");
+  auto waiting = in.get_vector<Waiting>();
   auto histogram = in.get_vector<std::uint64_t>();
   if (histogram.size() > kMaxDelay + 1) in.fail("the class delays' histogram is longer than its last bin");
-  waiting_.clear();
-  for (std::size_t i = 0; i < flat.size(); i += 2) waiting_.push_back({flat[i], flat[i + 1]});
+  waiting_ = std::move(waiting);
   histogram_ = std::move(histogram);
 }
 

@@ -104,9 +104,7 @@ DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
   const std::size_t waited_before = delays_.waiting();
   delays_.added(added, ++scans_);
   stats.blocks = classify_blocks(schedule_.ready());
-  delays_.settle(
-      scans_, [&](std::uint32_t p) { return map_point_class(p) != ClassId::Unknown; },
-      stats.blocks > 0 ? 0 : waited_before);
+  settle_class_delays(stats.blocks > 0 ? 0 : waited_before);
   stats.unlabelled = label_points(scan, of_point);
   stats.vetoed_points = veto_steep_inclined_ramps(scan, settings_.ramp_veto);
   return stats;
@@ -134,8 +132,12 @@ std::size_t DgcnnMapClassifier::finish() {
   changed_.clear();
   const std::size_t blocks = classify_blocks(schedule_.unfinished());
   // What the last blocks give counts as arriving after the last scan.
-  delays_.settle(scans_, [&](std::uint32_t p) { return map_point_class(p) != ClassId::Unknown; });
+  settle_class_delays();
   return blocks;
+}
+
+void DgcnnMapClassifier::settle_class_delays(std::size_t from) {
+  delays_.settle(scans_, [&](std::uint32_t p) { return map_point_class(p) != ClassId::Unknown; }, from);
 }
 
 ClassId DgcnnMapClassifier::map_point_class(std::uint32_t p) const {

@@ -105,6 +105,8 @@ class DgcnnMapClassifier {
   // Classifies the blocks in parallel and fuses their scores in order.
   std::size_t classify_blocks(const std::vector<MapBlock*>& blocks);
   std::size_t label_points(PointBuffer& points, std::span<const std::uint32_t> map_points) const;
+  // The waiting map points (from index `from` of the list) that have a class now stop waiting.
+  void settle_class_delays(std::size_t from = 0);
 
   const DgcnnModel& model_;
   DgcnnMapClassifierSettings settings_;
