@@ -29,10 +29,7 @@ pipeline::ClassifierConfig config_for(int variant) {
   c.model = SARMAP_SOURCE_DIR "/datasets/models/ramps-dgcnn.safetensors";
   c.per_scan = variant == 2;
   if (variant == 1) {
-    c.dgcnn.ramp_veto.enabled = false;
-    c.wall_bands.enabled = false;
-    c.ramp_sides.enabled = false;
-    c.wall_feet.enabled = false;
+    for (std::string_view rule : kRuleNames) rule_enabled(c.rules, rule) = false;
   }
   return c;
 }

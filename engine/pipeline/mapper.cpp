@@ -124,11 +124,10 @@ std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vect
   add_counts(profile, "classify",
              {{"points", scan.points.size()},
               {"blocks", counts.blocks},
-              {"unlabelled", counts.unlabelled},
-              {"ramp_vetoed", counts.vetoed},
-              {"wall_bands", counts.wall_bands},
-              {"ramp_sides", counts.ramp_sides},
-              {"wall_feet", counts.wall_feet}});
+              {"unlabelled", counts.unlabelled}});
+  for (std::size_t r = 0; r < kRuleCount; ++r) {
+    profile.add_count("classify", kRuleNames[r], static_cast<double>(counts.rules.changed[r]));
+  }
   if (classifier_->labels_arrive_late()) {
     profile.add_count("classify", "map_points_added", static_cast<double>(counts.map_points_added));
   }

@@ -44,33 +44,35 @@ void visit_config(V& v, C& c) {
       v.field("stride", k.dgcnn.stride);
       v.field("min_points", k.dgcnn.min_points);
       v.field("seed", k.dgcnn.seed);
+      // The rules keep their places of before they were one chain
+      // (classifier.rules), so that earlier config files still read.
       v.group("ramp_veto", [&] {
-        v.field("enabled", k.dgcnn.ramp_veto.enabled);
-        v.field("cell", k.dgcnn.ramp_veto.cell);
-        v.field("min_slope_deg", k.dgcnn.ramp_veto.min_slope_deg);
-        v.field("min_points", k.dgcnn.ramp_veto.min_points);
+        v.field("enabled", k.rules.ramp_veto.enabled);
+        v.field("cell", k.rules.ramp_veto.cell);
+        v.field("min_slope_deg", k.rules.ramp_veto.min_slope_deg);
+        v.field("min_points", k.rules.ramp_veto.min_points);
       });
     });
     v.group("wall_bands", [&] {
-      v.field("enabled", k.wall_bands.enabled);
-      v.field("column", k.wall_bands.column);
-      v.field("min_length", k.wall_bands.min_length);
+      v.field("enabled", k.rules.wall_bands.enabled);
+      v.field("column", k.rules.wall_bands.column);
+      v.field("min_length", k.rules.wall_bands.min_length);
     });
     v.group("ramp_sides", [&] {
-      v.field("enabled", k.ramp_sides.enabled);
-      v.field("radius", k.ramp_sides.radius);
-      v.field("min_rise", k.ramp_sides.min_rise);
-      v.field("max_rise", k.ramp_sides.max_rise);
-      v.field("deck_max_slope_deg", k.ramp_sides.deck_max_slope_deg);
-      v.field("deck_max_curvature", k.ramp_sides.deck_max_curvature);
-      v.field("normal_cell", k.ramp_sides.normal_cell);
-      v.field("min_points", k.ramp_sides.min_points);
+      v.field("enabled", k.rules.ramp_sides.enabled);
+      v.field("radius", k.rules.ramp_sides.radius);
+      v.field("min_rise", k.rules.ramp_sides.min_rise);
+      v.field("max_rise", k.rules.ramp_sides.max_rise);
+      v.field("deck_max_slope_deg", k.rules.ramp_sides.deck_max_slope_deg);
+      v.field("deck_max_curvature", k.rules.ramp_sides.deck_max_curvature);
+      v.field("normal_cell", k.rules.ramp_sides.normal_cell);
+      v.field("min_points", k.rules.ramp_sides.min_points);
     });
     v.group("wall_feet", [&] {
-      v.field("enabled", k.wall_feet.enabled);
-      v.field("column", k.wall_feet.column);
-      v.field("tolerance", k.wall_feet.tolerance);
-      v.field("min_floor_points", k.wall_feet.min_floor_points);
+      v.field("enabled", k.rules.wall_feet.enabled);
+      v.field("column", k.rules.wall_feet.column);
+      v.field("tolerance", k.rules.wall_feet.tolerance);
+      v.field("min_floor_points", k.rules.wall_feet.min_floor_points);
     });
     auto& g = k.geometric;
     v.group("geometric", [&] {

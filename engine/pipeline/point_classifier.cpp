@@ -51,29 +51,26 @@ DgcnnMapClassifierSettings map_settings(const ClassifierConfig& config) {
   s.min_points = config.dgcnn.min_points;
   s.growth = config.map_growth;
   s.seed = config.dgcnn.seed;
-  s.ramp_veto = config.dgcnn.ramp_veto;
   return s;
 }
 
 class DgcnnPointClassifier final : public PointClassifier {
  public:
   explicit DgcnnPointClassifier(const ClassifierConfig& config)
-      : model_(DgcnnModel::load(config.model)),
-        wall_bands_(config.wall_bands),
-        ramp_decks_(config.ramp_sides),
-        wall_feet_(config.wall_feet) {
+      : model_(DgcnnModel::load(config.model)), rules_(config.rules) {
     if (config.per_scan) {
       per_scan_.emplace(model_, config.dgcnn);
     } else {
       on_map_.emplace(model_, map_settings(config));
     }
-    validate(wall_bands_);
-    validate(wall_feet_);
   }
   std::string_view name() const override { return on_map_ ? "dgcnn-map" : "dgcnn"; }
   const DgcnnMapClassifier* accumulated_map() const override { return on_map_ ? &*on_map_ : nullptr; }
   std::size_t relabel(PointBuffer& points) const override {
-    return on_map_ ? on_map_->relabel(points) : PointClassifier::relabel(points);
+    if (!on_map_) return PointClassifier::relabel(points);
+    on_map_->relabel(points);
+    rules_.reapply(points);
+    return count_unknown(points);
   }
   std::size_t finish() override { return on_map_ ? on_map_->finish() : 0; }
   std::size_t forget(const std::function<bool(double, double, double)>& forget) override {
@@ -92,30 +89,22 @@ class DgcnnPointClassifier final : public PointClassifier {
     if (on_map_) {
       const DgcnnMapClassifyStats stats = on_map_->classify(points);
       counts.blocks = stats.blocks;
-      counts.vetoed = stats.vetoed_points;
       counts.map_points_added = stats.map_points_added;
     } else {
-      const DgcnnClassifyStats stats = per_scan_->classify(points);
-      counts.blocks = stats.blocks;
-      counts.vetoed = stats.vetoed_points;
+      counts.blocks = per_scan_->classify(points).blocks;
     }
-    // Wall bands first: a ramp's side the network called other, once wall,
-    // is then found under its deck.
-    counts.wall_bands = label_wall_bands(points, wall_bands_);
-    counts.ramp_sides = ramp_decks_.label_side_faces(points);
-    // Wall feet last: a ramp side's lowest points, once ramp, stay ramp.
-    counts.wall_feet = label_wall_feet(points, wall_feet_);
+    counts.rules = rules_.apply(points);
     counts.unlabelled = count_unknown(points);
     return counts;
   }
   void save_state(StateWriter& out) const override {
     PointClassifier::save_state(out);
-    ramp_decks_.save_state(out);
+    rules_.save_state(out);
     if (on_map_) on_map_->save_state(out);
   }
   void load_state(StateReader& in) override {
     PointClassifier::load_state(in);
-    ramp_decks_.load_state(in);
+    rules_.load_state(in);
     if (on_map_) on_map_->load_state(in);
   }
 
@@ -123,9 +112,7 @@ class DgcnnPointClassifier final : public PointClassifier {
   DgcnnModel model_;  // declared before the classifiers, which keep a reference to it
   std::optional<DgcnnClassifier> per_scan_;
   std::optional<DgcnnMapClassifier> on_map_;
-  WallBandSettings wall_bands_;
-  RampDeckMemory ramp_decks_;  // the ramp decks of every scan so far
-  WallFootSettings wall_feet_;
+  RuleChain rules_;
 };
 
 }  // namespace

@@ -19,9 +19,7 @@
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/map/dgcnn_map_classifier.hpp"
-#include "engine/semantic/rules/ramp_side_faces.hpp"
-#include "engine/semantic/rules/wall_bands.hpp"
-#include "engine/semantic/rules/wall_feet.hpp"
+#include "engine/semantic/rules/rule_chain.hpp"
 
 namespace sarmap::pipeline {
 
@@ -51,18 +49,15 @@ struct ClassifierConfig {
   DgcnnClassifierSettings dgcnn = pipeline_dgcnn_settings();
   // dgcnn: classify each scan on its own instead of the accumulated map
   // (engine/semantic/map/dgcnn_map_classifier.hpp), whose cell and growth
-  // come from map_cell and map_growth; the stride, minimum points, seed and
-  // veto above serve both.
+  // come from map_cell and map_growth; the stride, minimum points and seed
+  // above serve both.
   bool per_scan = false;
   double map_cell = 0.025;
   double map_growth = 0.25;
-  // dgcnn, after the network and its veto: patches labelled other (with
-  // wall) longer than a box become wall, then wall and other labels under a
-  // ramp deck seen in this scan or an earlier one become inclined ramp, then
-  // wall labels at the floor's height become terrain.
-  WallBandSettings wall_bands;
-  RampSideSettings ramp_sides;
-  WallFootSettings wall_feet;
+  // dgcnn: the rules that correct the network's labels, in their order
+  // (engine/semantic/rules/rule_chain.hpp), on each scan and on the kept
+  // points relabelled from the map.
+  RuleChainSettings rules;
   GeometricClassifierSettings geometric;
 };
 
@@ -70,10 +65,7 @@ struct ClassifierConfig {
 struct ClassifyCounts {
   std::size_t blocks = 0;          // dgcnn blocks run
   std::size_t unlabelled = 0;      // points left unknown (sparse blocks, far points)
-  std::size_t vetoed = 0;          // dgcnn inclined-ramp labels on steep surfaces, relabelled
-  std::size_t wall_bands = 0;      // dgcnn other labels in patches longer than a box, relabelled wall
-  std::size_t ramp_sides = 0;      // dgcnn wall / other labels under a ramp deck, relabelled inclined ramp
-  std::size_t wall_feet = 0;       // dgcnn wall labels at the floor's height, relabelled terrain
+  RuleChanges rules;               // dgcnn: the labels each rule changed
   std::size_t map_points_added = 0;  // dgcnn on the map: points the labelled point map gained
 };
 
@@ -93,8 +85,9 @@ class PointClassifier {
   // from, else nullptr: the Mapper takes the metric map's voxel classes from it.
   virtual const DgcnnMapClassifier* accumulated_map() const { return nullptr; }
   // Sets the labels and scores of points already seen from what the
-  // classifier knows now; returns how many stay unknown. Only for
-  // classifiers whose labels arrive late; the others leave `points` as is.
+  // classifier knows now, the rules applied again; returns how many stay
+  // unknown. Only for classifiers whose labels arrive late; the others
+  // leave `points` as is.
   virtual std::size_t relabel(PointBuffer& points) const;
   // The scans have ended: label what still waits for more of them (the
   // classifier of the accumulated map's unfinished blocks). Returns the

@@ -51,7 +51,7 @@ TEST(UsageErrors, HelpAndVersionAreNotErrors) {
   for (const char* command : {"run", "classify"}) {
     r = run_cli(std::string(command) + " --help", scratch.path());
     EXPECT_EQ(r.exit_code, 0);
-    EXPECT_NE(r.out.find("--no-ramp-veto "), std::string::npos) << command << ": " << r.out;
+    EXPECT_NE(r.out.find("--disable-rule NAME"), std::string::npos) << command << ": " << r.out;
     EXPECT_EQ(r.out.find("{false}"), std::string::npos) << command << ": " << r.out;
   }
 }

@@ -109,6 +109,42 @@ TEST(MapperMapClasses, VoxelClassesFollowTheLabelledPointMapAfterFinish) {
 // The same with the 13-class S3DIS fixture, whose logits count for terrain,
 // wall and other: a voxel's class is the arg-max of its points' mean scores
 // summed per sarmap class, not the class of the single highest logit.
+// The kept points (semantic_points.ply) take their classes from the map when
+// the run is written, and then go through the same rules as the scans did,
+// with the ramp decks the scans showed: the reference replays the scans'
+// network labels (a Mapper with every rule off holds the same point map)
+// through a chain of its own.
+TEST(MapperMapClasses, KeptPointsGoThroughTheRulesAsTheScansDid) {
+  RELEASE_ONLY();  // two DGCNN Mappers: minutes under the sanitizers, for plumbing RuleChain's own tests cover
+  MapperConfig with_rules = map_classifier_config();
+  with_rules.classifier.rules.wall_bands.min_length = 0.3;  // the fixture room's patches are short
+  MapperConfig without = with_rules;
+  for (std::string_view rule : kRuleNames) rule_enabled(without.classifier.rules, rule) = false;
+  Mapper ruled(with_rules), plain(without);
+  RuleChain replay(with_rules.classifier.rules);
+  testing::SyntheticRoom room;
+  RuleChanges by_scans;
+  for (int f = 0; f < 6; ++f) {
+    auto r = room.frame(f, 6, 80, 60);
+    Scan a, b;
+    a.points = b.points = r.points;
+    a.origin = b.origin = r.origin;
+    ruled.integrate(a);
+    plain.integrate(b);
+    by_scans += replay.apply(b.points);  // the network's labels of the scan, as `ruled` saw them
+    ASSERT_EQ(a.points.labels().size(), b.points.labels().size());
+    for (std::size_t i = 0; i < a.points.size(); ++i) ASSERT_EQ(a.points.labels()[i], b.points.labels()[i]) << f << " " << i;
+  }
+  ASSERT_GT(by_scans.total(), 0u) << "the fixture room gives the rules nothing to change";
+  PointBuffer kept = plain.semantic_points(), expected = plain.semantic_points();
+  ASSERT_GT(kept.size(), 100u);
+  plain.classifier().relabel(expected);
+  const RuleChanges reapplied = replay.reapply(expected);
+  ruled.classifier().relabel(kept);
+  for (std::size_t i = 0; i < kept.size(); ++i) ASSERT_EQ(kept.labels()[i], expected.labels()[i]) << i;
+  EXPECT_GT(reapplied.total(), 0u);
+}
+
 TEST(MapperMapClasses, VoxelClassesSumTheLogitsOfEachSarmapClass) {
   MapperConfig config = map_classifier_config();
   config.classifier.model = SARMAP_TEST_DATA_DIR "/dgcnn/model_s3dis13.safetensors";

@@ -2,9 +2,13 @@
 // tools/sarmap/classify_command.cpp) by running the built binary on a small
 // labelled PLY: the output keeps every point, has valid labels and per-class
 // scores, and carries the input labels as gt_label; one frame of a sequence
-// (--frame) is classified in the world frame; bad invocations fail.
+// (--frame) is classified in the world frame; the rule chain runs after the
+// network and --disable-rule turns rules off by name; bad invocations fail.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +20,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
+#include "engine/semantic/rules/rule_chain.hpp"
 #include "tests/file_bytes.hpp"
 #include "tests/semantic/dgcnn_test_data.hpp"
 
@@ -92,6 +97,58 @@ TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {
       EXPECT_EQ(out.labels()[p], 0);
     }
   }
+  fs::remove_all(dir);
+}
+
+// The rules after the network are `sarmap run`'s chain (RuleChain): the
+// output with every rule on equals the output with every rule off taken
+// through the chain in the test; `--disable-rule` names them, and an
+// unknown name is a usage error listing the rules.
+TEST(ClassifyCloud, RunsTheRuleChainAfterTheNetworkAndDisablesRulesByName) {
+  const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_rules_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  PointBuffer cloud;  // a floor, a wall along it and a 20-degree ramp on it, on a 2 cm grid
+  for (float x = 0.0f; x < 3.0f; x += 0.02f) {
+    for (float y = 0.0f; y < 3.0f; y += 0.02f) cloud.push_back(x, y, 0.0f);
+    for (float z = 0.02f; z < 1.2f; z += 0.02f) cloud.push_back(x, 3.0f, z);
+  }
+  for (float x = 0.5f; x < 1.5f; x += 0.02f) {
+    for (float y = 0.5f; y < 1.1f; y += 0.02f) cloud.push_back(x, y, 0.364f * (x - 0.5f));
+  }
+  write_point_cloud(dir / "in.ply", cloud);
+  const std::string common = (dir / "in.ply").string() + " --model " + kDgcnnDataDir + "model_c6.safetensors --out ";
+  ASSERT_EQ(run_classify(common + (dir / "ruled.ply").string(), dir / "err"), 0) << slurp(dir / "err");
+  ASSERT_EQ(run_classify(common + (dir / "plain.ply").string() +
+                             " --disable-rule ramp_veto --disable-rule wall_bands --disable-rule ramp_sides "
+                             "--disable-rule wall_feet",
+                         dir / "err"),
+            0)
+      << slurp(dir / "err");
+  const PointBuffer ruled = read_point_cloud(dir / "ruled.ply");
+  PointBuffer expected = read_point_cloud(dir / "plain.ply");
+  RuleChain chain({});
+  const RuleChanges changes = chain.apply(expected);
+  ASSERT_EQ(ruled.size(), expected.size());
+  ASSERT_EQ(ruled.score_count(), expected.score_count());
+  for (std::size_t p = 0; p < ruled.size(); ++p) {
+    ASSERT_EQ(ruled.labels()[p], expected.labels()[p]) << p;
+    for (std::size_t c = 0; c < ruled.score_count(); ++c) ASSERT_EQ(ruled.score(c)[p], expected.score(c)[p]) << p;
+  }
+  std::printf("labels the chain changed: %zu\n", changes.total());
+
+  const std::string summary = (dir / "summary.txt").string();
+  ASSERT_EQ(std::system((std::string(SARMAP_CLI_PATH) + " classify " + common + (dir / "some.ply").string() +
+                         " --disable-rule wall_feet --disable-rule ramp_veto > " + summary + " 2>&1")
+                            .c_str()),
+            0);
+  const std::string said = slurp(summary);
+  EXPECT_NE(said.find("ramp_veto 0,"), std::string::npos) << said;
+  EXPECT_NE(said.find("wall_feet 0\n"), std::string::npos) << said;
+
+  const int status = run_classify(common + (dir / "bad.ply").string() + " --disable-rule wall_legs", dir / "err");
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_NE(slurp(dir / "err").find("wall_legs"), std::string::npos) << slurp(dir / "err");
+  EXPECT_FALSE(fs::exists(dir / "bad.ply"));
   fs::remove_all(dir);
 }
 

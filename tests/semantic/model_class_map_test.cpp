@@ -219,7 +219,6 @@ TEST(ModelClassMap, PerScanClassifierAgreesWithThePlainReference) {
     ASSERT_EQ(model.classes(), 13u);
     DgcnnClassifierSettings s;
     s.min_points = 100;
-    s.ramp_veto.enabled = false;  // the reference is the network's alone
     const DgcnnClassifier classifier(model, s);
     std::array<std::size_t, kClassCount> counts{};
     for (const unsigned seed : {1u, 2u, 3u}) {
@@ -253,7 +252,6 @@ TEST(ModelClassMap, AccumulatedMapClassifierAgreesWithThePlainReference) {
     const DgcnnModel& model = *k.model;
     DgcnnMapClassifierSettings s;
     s.cell = 0.05;
-    s.ramp_veto.enabled = false;
     DgcnnMapClassifier classifier(model, s);
     std::array<std::size_t, kClassCount> counts{};
     for (const unsigned seed : {4u, 5u, 6u}) {

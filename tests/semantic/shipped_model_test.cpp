@@ -115,10 +115,10 @@ pipeline::ClassifierConfig shipped_model(bool ramp_veto, bool ramp_sides = false
   dgcnn.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
   dgcnn.per_scan = true;  // the rules' figures were recorded on scans classified one by one
   dgcnn.dgcnn.stride = kNoOverlapStride;
-  dgcnn.dgcnn.ramp_veto.enabled = ramp_veto;
-  dgcnn.ramp_sides.enabled = ramp_sides;
-  dgcnn.wall_bands.enabled = wall_bands;
-  dgcnn.wall_feet.enabled = wall_feet;
+  dgcnn.rules.ramp_veto.enabled = ramp_veto;
+  dgcnn.rules.ramp_sides.enabled = ramp_sides;
+  dgcnn.rules.wall_bands.enabled = wall_bands;
+  dgcnn.rules.wall_feet.enabled = wall_feet;
   return dgcnn;
 }
 

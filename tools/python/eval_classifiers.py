@@ -67,13 +67,13 @@ def simulate(sarmap, work, name, arena_json, seed, every, sensor_args):
     return arena_path, folder
 
 
-def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride, ramp_veto,
-             ramp_sides, wall_bands, wall_feet, threads):
+def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_block_points, block_stride,
+             disabled_rules, threads):
     # "dgcnn-per-scan": the network on every scan instead of the accumulated map.
     base = "dgcnn" if classifier.startswith("dgcnn") else classifier
     suffix = ""
     if base == "dgcnn":
-        suffix = (f"-stride{block_stride}" if block_stride else "") + ("" if ramp_veto else "-noveto") + ("" if ramp_sides else "-nosides") + ("" if wall_bands else "-nobands") + ("" if wall_feet else "-nofeet")
+        suffix = (f"-stride{block_stride}" if block_stride else "") + "".join(f"-no-{r}" for r in sorted(disabled_rules))
     out = os.path.join(work, name, classifier + suffix)
     cmd = [sarmap, "run", folder, "--out", out, "--classifier", base, "--quiet", "--threads", str(threads)]
     if classifier == "dgcnn-per-scan":
@@ -84,14 +84,9 @@ def evaluate(sarmap, work, name, arena_path, folder, classifier, model, min_bloc
         cmd += ["--min-block-points", str(min_block_points)]
     if base == "dgcnn" and block_stride:
         cmd += ["--block-stride", str(block_stride)]
-    if base == "dgcnn" and not ramp_veto:
-        cmd += ["--no-ramp-veto"]
-    if base == "dgcnn" and not ramp_sides:
-        cmd += ["--no-ramp-sides"]
-    if base == "dgcnn" and not wall_bands:
-        cmd += ["--no-wall-bands"]
-    if base == "dgcnn" and not wall_feet:
-        cmd += ["--no-wall-feet"]
+    if base == "dgcnn":
+        for rule in disabled_rules:
+            cmd += ["--disable-rule", rule]
     run(cmd)
     result = json.loads(run([sarmap, "eval", "--arena", arena_path, "--run", out, "--json"]))
     with open(os.path.join(out, "profile.json")) as f:
@@ -135,14 +130,9 @@ def main(argv):
     parser.add_argument("--model", help="DGCNN model (default: the shipped one)")
     parser.add_argument("--min-block-points", type=int, help="passed to sarmap run (default: its own)")
     parser.add_argument("--block-stride", type=float, help="passed to sarmap run: overlapping DGCNN blocks")
-    parser.add_argument("--no-ramp-veto", action="store_true",
-                        help="passed to sarmap run: keep the network's inclined-ramp labels on steep surfaces")
-    parser.add_argument("--no-ramp-sides", action="store_true",
-                        help="passed to sarmap run: keep the network's wall and other labels on ramp side faces")
-    parser.add_argument("--no-wall-bands", action="store_true",
-                        help="passed to sarmap run: keep the network's other labels on long surfaces")
-    parser.add_argument("--no-wall-feet", action="store_true",
-                        help="passed to sarmap run: keep the network's wall labels at the floor's height")
+    parser.add_argument("--disable-rule", action="append", default=[], metavar="NAME",
+                        help="passed to sarmap run for the DGCNN runs (repeatable): ramp_veto, wall_bands, "
+                             "ramp_sides or wall_feet")
     parser.add_argument("--every", type=int, default=4, help="use every n-th frame")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--sensor", choices=["depth", "lidar"], default="depth",
@@ -165,9 +155,7 @@ def main(argv):
         arena_path, folder = simulate(args.sarmap, args.work, name, arena_json, seed, args.every, sensor_args)
         for classifier in classifiers:
             conf, classify_s = evaluate(args.sarmap, args.work, name, arena_path, folder, classifier, args.model,
-                                        args.min_block_points, args.block_stride, not args.no_ramp_veto,
-                                        not args.no_ramp_sides, not args.no_wall_bands, not args.no_wall_feet,
-                                        args.threads)
+                                        args.min_block_points, args.block_stride, args.disable_rule, args.threads)
             totals[classifier] += conf
             rows.append((name, classifier, ious(conf), classify_s))
             print(f"{name} {classifier}: mean IoU {pct(mean_iou(rows[-1][2]))}", file=sys.stderr, flush=True)

@@ -22,14 +22,12 @@
 #include "engine/io/scan_source.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
-#include "engine/semantic/rules/ramp_side_faces.hpp"
-#include "engine/semantic/rules/wall_bands.hpp"
-#include "engine/semantic/rules/wall_feet.hpp"
+#include "engine/semantic/rules/rule_chain.hpp"
 #include "engine/pipeline/point_classifier.hpp"
 #include "kernels/simd_level.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
-#include "tools/sarmap/off_switch.hpp"
+#include "tools/sarmap/disable_rule_option.hpp"
 #include "tools/sarmap/sequence_input_options.hpp"
 #include "tools/sarmap/shipped_data.hpp"
 
@@ -45,10 +43,7 @@ struct ClassifyOptions {
   // As `sarmap run`'s (pipeline_dgcnn_settings says why it is below the network's own 500).
   std::size_t min_points = pipeline::pipeline_dgcnn_settings().min_points;
   std::uint64_t seed = 1;
-  bool ramp_veto = true;
-  bool wall_bands = true;
-  bool ramp_sides = true;
-  bool wall_feet = true;
+  std::vector<std::string> disabled_rules;
   std::string raw_block;
   std::string model;  // empty: the shipped ramp model
   std::string logits;
@@ -107,8 +102,10 @@ void run_cloud(const ClassifyOptions& o) {
   settings.stride = o.stride;
   settings.min_points = o.min_points;
   settings.seed = o.seed;
-  settings.ramp_veto.enabled = o.ramp_veto;
   const DgcnnClassifier classifier(model, settings);
+  RuleChainSettings rule_settings;
+  for (const std::string& rule : o.disabled_rules) rule_enabled(rule_settings, rule) = false;
+  RuleChain rules(rule_settings);  // this frame's ramp decks only
   const std::unique_ptr<ScanSource> source = open_input_sequence(o.input, o.sequence);
   if (o.frame >= source->size()) {
     throw Error(ErrorCode::InvalidArgument, o.input + ": --frame " + std::to_string(o.frame) + " but the sequence has " +
@@ -124,22 +121,16 @@ void run_cloud(const ClassifyOptions& o) {
     std::copy(points.labels().begin(), points.labels().end(), points.gt_labels().begin());
   }
   const DgcnnClassifyStats stats = classifier.classify(points);
-  WallBandSettings bands;
-  bands.enabled = o.wall_bands;
-  const std::size_t band_points = label_wall_bands(points, bands);
-  RampSideSettings sides;
-  sides.enabled = o.ramp_sides;
-  const std::size_t side_points = label_ramp_side_faces(points, sides);  // this frame's decks only
-  WallFootSettings feet;
-  feet.enabled = o.wall_feet;
-  const std::size_t foot_points = label_wall_feet(points, feet);
+  const RuleChanges changes = rules.apply(points);
   write_point_cloud(o.out, points);
   if (o.quiet) return;
+  std::string changed;
+  for (std::size_t r = 0; r < kRuleCount; ++r) {
+    changed += (r == 0 ? "" : ", ") + std::string(kRuleNames[r]) + " " + std::to_string(changes.changed[r]);
+  }
   std::printf("classified %zu points in %zu blocks; %zu points only in blocks under %zu points labelled unknown; "
-              "%zu inclined-ramp labels on steep surfaces changed; %zu other labels on wall bands changed; "
-              "%zu wall or other labels under a ramp deck changed; %zu wall labels at floor height changed\n",
-              points.size(), stats.blocks, stats.dropped_points, o.min_points, stats.vetoed_points, band_points,
-              side_points, foot_points);
+              "labels changed by rule: %s\n",
+              points.size(), stats.blocks, stats.dropped_points, o.min_points, changed.c_str());
 }
 
 }  // namespace
@@ -160,18 +151,7 @@ void add_classify_command(CLI::App& app) {
       ->capture_default_str()
       ->check(finite_positive());
   cmd->add_option("--seed", options->seed, "Sampling seed (default 1)")->check(finite_non_negative());
-  add_off_switch(cmd, "--no-ramp-veto", options->ramp_veto,
-                "Keep inclined-ramp labels on surfaces steeper than 60 degrees (by default they become wall or other)");
-  add_off_switch(cmd, "--no-wall-bands", options->wall_bands,
-                "Keep other labels on long surfaces (by default, other labels in a patch of other and wall "
-                "0.8 m or longer become wall)");
-  add_off_switch(cmd, "--no-ramp-sides", options->ramp_sides,
-                "Keep wall and other labels on ramp side faces (by default, wall or other points with ramp deck "
-                "3-100 cm above them within 15 cm become inclined ramp; one frame sees fewer decks than "
-                "`sarmap run`'s sequence)");
-  add_off_switch(cmd, "--no-wall-feet", options->wall_feet,
-                "Keep wall labels at the floor's height (by default, wall points at most 5 mm above the "
-                "mean height of the terrain around them become terrain)");
+  add_disable_rule_option(cmd, options->disabled_rules);
   cmd->add_option("--raw-block", options->raw_block,
                   "An (N, C) float32 .npy block fed to the network as it is (no preprocessing)")
       ->check(CLI::ExistingFile);

@@ -28,6 +28,7 @@
 #include "engine/topo/topo_map.hpp"
 #include "tools/sarmap/number_checks.hpp"
 #include "tools/sarmap/commands.hpp"
+#include "tools/sarmap/disable_rule_option.hpp"
 #include "tools/sarmap/off_switch.hpp"
 #include "tools/sarmap/progress.hpp"
 #include "tools/sarmap/run_command.hpp"
@@ -76,10 +77,7 @@ pipeline::MapperConfig apply_run_options(const RunOptions& o, pipeline::MapperCo
   config.classifier.dgcnn.min_points = o.min_block_points;
   config.classifier.dgcnn.stride = o.block_stride;
   config.classifier.per_scan = o.classify_per_scan;
-  config.classifier.dgcnn.ramp_veto.enabled = o.ramp_veto;
-  config.classifier.wall_bands.enabled = o.wall_bands;
-  config.classifier.ramp_sides.enabled = o.ramp_sides;
-  config.classifier.wall_feet.enabled = o.wall_feet;
+  for (const std::string& rule : o.disabled_rules) rule_enabled(config.classifier.rules, rule) = false;
   return config;
 }
 
@@ -131,10 +129,6 @@ void load_config_file(RunOptions& o, const std::function<bool(const char* flag)>
   if (!given("--min-block-points")) o.min_block_points = c.classifier.dgcnn.min_points;
   if (!given("--block-stride")) o.block_stride = c.classifier.dgcnn.stride;
   if (!given("--classify-per-scan")) o.classify_per_scan = c.classifier.per_scan;
-  if (!given("--no-ramp-veto")) o.ramp_veto = c.classifier.dgcnn.ramp_veto.enabled;
-  if (!given("--no-wall-bands")) o.wall_bands = c.classifier.wall_bands.enabled;
-  if (!given("--no-ramp-sides")) o.ramp_sides = c.classifier.ramp_sides.enabled;
-  if (!given("--no-wall-feet")) o.wall_feet = c.classifier.wall_feet.enabled;
   o.base_config = c;
 }
 
@@ -357,19 +351,7 @@ void add_run_command(CLI::App& app) {
                 "DGCNN: classify each scan on its own (every block of every scan) instead of the accumulated "
                 "map (by default the scans' points join a map thinned to one point per 2.5 cm cell, whose "
                 "blocks are classified when they have grown by a quarter or stopped growing)");
-  add_off_switch(cmd, "--no-ramp-veto", o->ramp_veto,
-               "Keep the network's inclined-ramp labels on steep surfaces (by default, points labelled "
-               "inclined ramp on a surface steeper than 60 degrees become wall or other)");
-  add_off_switch(cmd, "--no-wall-bands", o->wall_bands,
-               "Keep the network's other labels on long surfaces (by default, points labelled other in a "
-               "patch of other and wall labels that runs on for 0.8 m or more, longer than a box, become wall)");
-  add_off_switch(cmd, "--no-ramp-sides", o->ramp_sides,
-               "Keep the network's wall and other labels on ramp side faces (by default, points labelled "
-               "wall or other with ramp deck seen 3-100 cm above them within 15 cm, in this scan or an "
-               "earlier one, become inclined ramp)");
-  add_off_switch(cmd, "--no-wall-feet", o->wall_feet,
-               "Keep the network's wall labels at the floor's height (by default, points labelled wall at "
-               "most 5 mm above the mean height of the terrain around them become terrain)");
+  add_disable_rule_option(cmd, o->disabled_rules);
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
       ->check(finite_non_negative());

@@ -32,10 +32,8 @@ struct RunOptions {
   double block_stride = 0.0;  // metres between DGCNN block origins; 0 = three quarters of the model's block size
   // dgcnn: classify each scan on its own instead of the accumulated map.
   bool classify_per_scan = false;
-  bool ramp_veto = true;      // inclined-ramp labels on steep surfaces become wall / other
-  bool wall_bands = true;     // patches labelled other (with wall) 0.8 m or longer become wall
-  bool ramp_sides = true;     // wall / other labels under a ramp deck (this scan or earlier) become inclined ramp
-  bool wall_feet = true;      // wall labels at the floor's height become terrain
+  // dgcnn: rules of the chain turned off (kRuleNames), over the config file's.
+  std::vector<std::string> disabled_rules;
   int threads = 0;
   bool overlap = true;  // classify the next scan while the maps take this one (same maps)
   double max_range = 0.0;

@@ -102,8 +102,7 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
               acc.hits(p) == 0 ? ClassId::Unknown : out_classes[class_probabilities_.best(per_class.data())]);
         }
       });
-  const std::size_t vetoed = veto_steep_inclined_ramps(points, settings_.ramp_veto);
-  return {part.blocks.size(), part.dropped_points, vetoed};
+  return {part.blocks.size(), part.dropped_points};
 }
 
 }  // namespace sarmap

@@ -8,7 +8,6 @@
 #include "engine/core/point_buffer.hpp"
 #include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
-#include "engine/semantic/rules/steep_surface_veto.hpp"
 
 namespace sarmap {
 
@@ -22,7 +21,6 @@ struct DgcnnClassifierSettings {
   double stride = 0.0;           // metres between block origins; <= 0: kDefaultStrideFraction x the block size
   std::size_t min_points = 500;  // sparser blocks are dropped
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
-  SteepSurfaceVetoSettings ramp_veto;  // inclined-ramp labels on steep surfaces become wall / other
 };
 
 // Throws sarmap::Error unless `model` can label clouds: its preprocessing
@@ -32,7 +30,6 @@ const DgcnnModel& require_labelling_metadata(const DgcnnModel& model);
 struct DgcnnClassifyStats {
   std::size_t blocks = 0;
   std::size_t dropped_points = 0;  // only in dropped blocks: labelled unknown
-  std::size_t vetoed_points = 0;   // inclined ramp on a steep surface, relabelled
 };
 
 class DgcnnClassifier {

@@ -106,7 +106,6 @@ DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
   stats.blocks = classify_blocks(schedule_.ready());
   settle_class_delays(stats.blocks > 0 ? 0 : waited_before);
   stats.unlabelled = label_points(scan, of_point);
-  stats.vetoed_points = veto_steep_inclined_ramps(scan, settings_.ramp_veto);
   return stats;
 }
 
@@ -195,9 +194,7 @@ std::size_t DgcnnMapClassifier::relabel(PointBuffer& points) const {
     of_point[i] = map_.find(x, y, z);
     if (of_point[i] == LabelledPointMap::kNoPoint) of_point[i] = map_.nearest_classified(x, y, z);
   }
-  const std::size_t unknown = label_points(points, of_point);
-  veto_steep_inclined_ramps(points, settings_.ramp_veto);
-  return unknown;
+  return label_points(points, of_point);
 }
 
 void DgcnnMapClassifier::save_state(StateWriter& out) const {

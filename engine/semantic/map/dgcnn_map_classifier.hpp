@@ -25,7 +25,6 @@
 #include "engine/semantic/map/class_delays.hpp"
 #include "engine/semantic/map/labelled_point_map.hpp"
 #include "engine/semantic/map/map_block_schedule.hpp"
-#include "engine/semantic/rules/steep_surface_veto.hpp"
 
 namespace sarmap {
 
@@ -35,14 +34,12 @@ struct DgcnnMapClassifierSettings {
   std::size_t min_points = 100;  // map points a block needs before it is first classified
   double growth = 0.25;          // a block is classified again once it has grown by this fraction
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
-  SteepSurfaceVetoSettings ramp_veto;  // on each scan's labels, as for per-scan classification
 };
 
 struct DgcnnMapClassifyStats {
   std::size_t blocks = 0;          // blocks classified for this scan
   std::size_t map_points_added = 0;
   std::size_t unlabelled = 0;      // scan points whose map point has no class yet
-  std::size_t vetoed_points = 0;
 };
 
 class DgcnnMapClassifier {
@@ -72,7 +69,7 @@ class DgcnnMapClassifier {
   void merge(const DgcnnMapClassifier& other, const Pose& other_to_this);
   // Sets labels and score channels of `points` from the map points of their
   // cells (unknown and zeros where there is none or it has no class yet),
-  // without adding them, then applies the veto as classify() does. A point
+  // without adding them. A point
   // whose cell holds no map point (cells of a map merged from another frame
   // do not line up with its points) borrows its classified neighbour's
   // class, as an unclassified map point does. Returns how many stay unknown.

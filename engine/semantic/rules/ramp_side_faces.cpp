@@ -81,9 +81,15 @@ bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
 std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
   if (!settings_.enabled || !points.has_labels()) return 0;
   require_finite_points(points, "ramp side faces");  // refused whether or not the scan shows a deck
-  const auto xs = points.x(), ys = points.y(), zs = points.z();
   remember_decks(points);
+  return label_under_known_decks(points);
+}
+
+std::size_t RampDeckMemory::label_under_known_decks(PointBuffer& points) const {
+  if (!settings_.enabled || !points.has_labels()) return 0;
+  require_finite_points(points, "ramp side faces");
   if (columns_.empty()) return 0;
+  const auto xs = points.x(), ys = points.y(), zs = points.z();
   const auto wall = static_cast<std::uint8_t>(ClassId::Wall), other = static_cast<std::uint8_t>(ClassId::Other);
   const auto labels = points.labels();
   ClassMove wall_to_ramp(points, ClassId::Wall, ClassId::InclinedRamp);

@@ -62,6 +62,9 @@ class RampDeckMemory {
   // points changed; nothing when disabled or unlabelled. Throws
   // sarmap::Error (InvalidArgument, like the normals) for a non-finite point.
   std::size_t label_side_faces(PointBuffer& points);
+  // The same with the decks already remembered, remembering none of
+  // `points`' own (points whose scans were seen: the kept points relabelled).
+  std::size_t label_under_known_decks(PointBuffer& points) const;
 
   // Forgets every deck (a new sequence).
   void clear() { columns_.clear(); }

@@ -13,7 +13,7 @@
 
 namespace sarmap {
 
-std::size_t veto_steep_inclined_ramps(PointBuffer& points, const SteepSurfaceVetoSettings& settings) {
+void validate(const SteepSurfaceVetoSettings& settings) {
   if (!(settings.cell >= 0.01) || !std::isfinite(settings.cell)) {
     throw Error(ErrorCode::InvalidArgument, "steep surface veto: cell size must be at least 0.01 m");
   }
@@ -21,6 +21,10 @@ std::size_t veto_steep_inclined_ramps(PointBuffer& points, const SteepSurfaceVet
     throw Error(ErrorCode::InvalidArgument, "steep surface veto: the slope must be in (0, 90] degrees, got " +
                                                 std::to_string(settings.min_slope_deg));
   }
+}
+
+std::size_t veto_steep_inclined_ramps(PointBuffer& points, const SteepSurfaceVetoSettings& settings) {
+  validate(settings);
   if (!settings.enabled || !points.has_labels()) return 0;
   const auto inclined = static_cast<std::uint8_t>(ClassId::InclinedRamp);
   const auto labels = points.labels();

@@ -22,14 +22,18 @@ struct SteepSurfaceVetoSettings {
   std::size_t min_points = 10;  // fewer points around: no verdict, the label stays
 };
 
+// Throws sarmap::Error (InvalidArgument) for a cell under 1 cm or a slope
+// outside (0, 90].
+void validate(const SteepSurfaceVetoSettings& settings);
+
 // Relabels the points labelled inclined ramp whose surface is at least
 // min_slope_deg steep (z up), as above; the choice between wall and other
 // uses the score channels named "wall" and "other" when both exist, else
 // wall, and the point's "inclined_ramp" score moves to the class it becomes
 // (so the label stays the scores' arg-max and the map's score fusion agrees).
 // Returns how many points changed. Throws sarmap::Error
-// (InvalidArgument) for a cell under 1 cm or a slope outside (0, 90], and
-// (like the normals) for a non-finite point.
+// (InvalidArgument) for settings validate() refuses and (like the normals)
+// for a non-finite point.
 std::size_t veto_steep_inclined_ramps(PointBuffer& points, const SteepSurfaceVetoSettings& settings);
 
 }  // namespace sarmap
