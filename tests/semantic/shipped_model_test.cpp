@@ -6,7 +6,9 @@
 // veto must keep the gain it was measured to bring; on 9003, relabelling
 // ramp side faces (tests/semantic/ramp_side_faces_test.cpp) must keep its
 // gain on inclined ramps, and on 9005's first frames the wall bands rule
-// (tests/semantic/wall_bands_test.cpp) its gain on walls. The figures were
+// (tests/semantic/wall_bands_test.cpp) its gain on walls; and the shipped
+// configuration on the map must keep its figures on a test-split arena seen
+// by both sensors. The figures were
 // measured with this test's own code (see PERF.md, "Classifiers"); the
 // thresholds sit a small margin below.
 #include <gtest/gtest.h>
@@ -18,6 +20,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/eval/point_evaluation.hpp"
+#include "engine/pipeline/mapper.hpp"
 #include "engine/pipeline/point_classifier.hpp"
 #include "engine/sim/random_arena.hpp"
 #include "engine/sim/simulator.hpp"
@@ -198,6 +201,57 @@ TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
   EXPECT_GE(c.mean_iou().value(), kRecordedDefaultMeanIou - kMargin);
   EXPECT_GE(c.iou(ClassId::InclinedRamp).value(), kRecordedDefaultInclinedIou - kMargin);
   EXPECT_GE(c.iou(ClassId::FlatRamp).value(), kRecordedDefaultFlatIou - kMargin);
+}
+
+// The test split (PERF.md, "Classifiers": arenas 9101-9105, never used to
+// decide anything): the shipped configuration end to end, a Mapper over
+// every kTestEvery-th frame of test arena 9101 seen by the depth camera and
+// by the 16-ring LiDAR, its kept points taking the map's final classes and
+// the rules as `semantic_points.ply` does, scored against the simulator's
+// labels. Recorded with this code on 2026-11-28 (machine A); the whole test
+// split's figures are in PERF.md.
+constexpr std::uint64_t kTestArena = 9101;
+constexpr std::size_t kTestEvery = 8;
+constexpr double kRecordedTestDepthMeanIou = 0.9596;
+constexpr double kRecordedTestDepthInclinedIou = 0.9654;
+constexpr double kRecordedTestDepthFlatIou = 0.9012;
+constexpr double kRecordedTestLidarMeanIou = 0.9019;
+constexpr double kRecordedTestLidarInclinedIou = 0.9675;
+constexpr double kRecordedTestLidarFlatIou = 0.6918;
+
+eval::ConfusionMatrix map_test_arena(SensorType sensor) {
+  sim::RandomSensor seen_by;
+  seen_by.type = sensor;
+  sim::SimulationOptions options;
+  options.seed = 7;  // as tools/python/eval_classifiers.py simulates
+  const sim::Simulator simulator(sim::random_arena(kTestArena, seen_by), options);
+  pipeline::MapperConfig config;  // what `sarmap run` uses by default
+  config.classifier.model = std::filesystem::path(SARMAP_SOURCE_DIR) / "datasets" / "models" / "ramps-dgcnn.safetensors";
+  pipeline::Mapper mapper(config);
+  for (std::size_t frame = 0; frame < simulator.frame_count(); frame += kTestEvery) {
+    Scan scan = simulator.simulate(frame);
+    mapper.integrate(scan);
+  }
+  mapper.finish();
+  PointBuffer kept = mapper.semantic_points();
+  mapper.classifier().relabel(kept);
+  return eval::evaluate_points(kept, "test arena").confusion;
+}
+
+TEST(ShippedModel, KeepsItsTestSplitFiguresOnTheMapWithBothSensors) {
+  RELEASE_ONLY();
+  const eval::ConfusionMatrix depth = map_test_arena(SensorType::DepthCamera);
+  const eval::ConfusionMatrix lidar = map_test_arena(SensorType::Lidar);
+  print_figures("test arena, depth camera", depth);
+  print_figures("test arena, LiDAR", lidar);
+  ASSERT_GT(depth.total(), 10'000u);
+  ASSERT_GT(lidar.total(), 10'000u);
+  EXPECT_GE(depth.mean_iou().value(), kRecordedTestDepthMeanIou - kMargin);
+  EXPECT_GE(depth.iou(ClassId::InclinedRamp).value(), kRecordedTestDepthInclinedIou - kMargin);
+  EXPECT_GE(depth.iou(ClassId::FlatRamp).value(), kRecordedTestDepthFlatIou - kMargin);
+  EXPECT_GE(lidar.mean_iou().value(), kRecordedTestLidarMeanIou - kMargin);
+  EXPECT_GE(lidar.iou(ClassId::InclinedRamp).value(), kRecordedTestLidarInclinedIou - kMargin);
+  EXPECT_GE(lidar.iou(ClassId::FlatRamp).value(), kRecordedTestLidarFlatIou - kMargin);
 }
 
 }  // namespace
