@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
@@ -58,8 +59,7 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
 
   std::vector<std::vector<std::uint32_t>> samples(part.blocks.size());
   std::vector<std::vector<float>> scores(part.blocks.size());
-  tbb::enumerable_thread_specific<DgcnnWorkspace> workspaces;
-  tbb::parallel_for(std::size_t{0}, part.blocks.size(), [&](std::size_t b) {
+  const auto classify_block = [&](std::size_t b) {
     const Block& block = part.blocks[b];
     samples[b] = sample_block(block.points.size(), target, settings_.seed, b);
     std::vector<std::uint32_t> indices(samples[b].size());
@@ -68,7 +68,7 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
     const std::vector<float> features = block_features(points, indices, frame, rgb);
     std::vector<float>& s = scores[b];
     s.resize(indices.size() * classes);
-    model_.forward(features.data(), indices.size(), s.data(), workspaces.local());
+    model_.forward(features.data(), indices.size(), s.data(), workspaces_.local());
     for (std::size_t i = 0; i < indices.size(); ++i) {  // softmax per row
       float* row = s.data() + i * classes;
       const float top = *std::max_element(row, row + classes);
@@ -76,6 +76,11 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
       for (std::size_t c = 0; c < classes; ++c) sum += (row[c] = std::exp(row[c] - top));
       for (std::size_t c = 0; c < classes; ++c) row[c] = static_cast<float>(row[c] / sum);
     }
+  };
+  tbb::parallel_for(std::size_t{0}, part.blocks.size(), [&](std::size_t b) {
+    // Isolated: a thread waiting inside this block's kernels must not take up
+    // another block, which would take the same thread's workspace.
+    tbb::this_task_arena::isolate([&] { classify_block(b); });
   });
 
   ScoreAccumulator acc(points.size(), classes);
