@@ -1,6 +1,6 @@
 // Tests score carry-back (engine/semantic/dgcnn/score_carry_back.hpp): the grid
-// nearest-sample search against brute force, a hand-built block, and averaging
-// over overlapping blocks.
+// nearest-sample search against brute force (random, walls, tall blocks,
+// ties), a hand-built block, and averaging over overlapping blocks.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -51,6 +51,46 @@ TEST(ScoreCarryBack, GridMatchesBruteForce) {
     EXPECT_EQ(nearest_sample(cloud, part.blocks[0], samples),
               nearest_sample_reference(cloud, part.blocks[0], samples));
   }
+}
+
+// The grid's edge cases: a wall (every sample of a column stacked in z), a
+// block far taller than the grid's layers (clamped into its end layers),
+// points above and below every sample, and samples at equal distances (the
+// lowest sample index wins, as in the brute force).
+TEST(ScoreCarryBack, GridMatchesBruteForceOnWallsTallBlocksAndTies) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> u(0.0f, 0.999f);
+  PointBuffer cloud;
+  for (int i = 0; i < 2000; ++i) cloud.push_back(u(rng), 0.5f + 0.002f * u(rng), 2.5f * u(rng));  // a wall
+  for (int i = 0; i < 400; ++i) cloud.push_back(u(rng), u(rng), 0.0f);                             // its floor
+  for (int i = 0; i < 50; ++i) cloud.push_back(u(rng), u(rng), 40.0f * u(rng));                    // a mast
+  cloud.push_back(0.5f, 0.5f, -3.0f), cloud.push_back(0.5f, 0.5f, 60.0f);                          // beyond all
+  for (int i = 0; i < 8; ++i) cloud.push_back(0.25f, 0.25f, 1.0f);  // one position, many copies
+  for (const float dx : {-0.05f, 0.05f}) cloud.push_back(0.7f + dx, 0.8f, 1.0f);  // equidistant pair
+  cloud.push_back(0.7f, 0.8f, 1.0f);
+  BlockPartitionSettings settings;
+  settings.min_points = 1;
+  settings.block_size = 1.0;
+  settings.stride = 1.0;
+  const BlockPartition part = partition_blocks(cloud, settings);
+  ASSERT_EQ(part.blocks.size(), 1u);
+  const Block& block = part.blocks[0];
+  for (std::size_t target : {30u, 400u, 2048u}) {
+    const auto samples = sample_block(block.points.size(), target, 4, target);
+    EXPECT_EQ(nearest_sample(cloud, block, samples), nearest_sample_reference(cloud, block, samples)) << target;
+  }
+  // Samples chosen by hand: the pair equidistant from the last point, the
+  // copies at one position, and nothing sampled near the ends.
+  const std::size_t n = block.points.size();
+  std::vector<std::uint32_t> chosen;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t p = block.points[i];
+    if (cloud.z()[p] == 1.0f || (i % 97 == 0 && cloud.z()[p] < 2.5f)) chosen.push_back(static_cast<std::uint32_t>(i));
+  }
+  ASSERT_GT(chosen.size(), 10u);
+  EXPECT_EQ(nearest_sample(cloud, block, chosen), nearest_sample_reference(cloud, block, chosen));
+  const std::vector<std::uint32_t> one{static_cast<std::uint32_t>(n - 1)};
+  EXPECT_EQ(nearest_sample(cloud, block, one), std::vector<std::uint32_t>(n, 0));
 }
 
 TEST(ScoreCarryBack, OverlappingBlocksAverage) {

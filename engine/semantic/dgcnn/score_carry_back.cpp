@@ -1,5 +1,5 @@
-// Nearest-sample search on a 2-D grid of the block's samples, searched in
-// growing rings until no unvisited cell can hold anything nearer.
+// Nearest-sample search on a 3-D grid of the block's samples, searched in
+// growing shells until no unvisited cell can hold anything nearer.
 #include "engine/semantic/dgcnn/score_carry_back.hpp"
 
 #include <algorithm>
@@ -56,20 +56,34 @@ std::vector<std::uint32_t> nearest_sample_reference(const PointBuffer& points, c
 std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block& block,
                                           std::span<const std::uint32_t> samples) {
   std::vector<std::uint32_t> out = own_copies(block, samples);
-  if (samples.empty()) throw Error(ErrorCode::InvalidArgument, "score carry-back: a block without samples");
-  constexpr long long kSide = 32;
+  // Cubic cells: 32 across the block in x and y, as many as the samples'
+  // height needs in z (at most kMaxLayers; what lies beyond is clamped into
+  // the end layers, which only makes those cells hold more). A 2-D grid of
+  // columns put a whole wall's height of samples into every point's search.
+  constexpr long long kSide = 32, kMaxLayers = 96;
   const double cell = block.size / kSide;
-  auto cell_of = [&](double v, double origin) {
-    return std::clamp(static_cast<long long>(std::floor((v - origin) / cell)), 0LL, kSide - 1);
+  float z_lo = std::numeric_limits<float>::infinity(), z_hi = -z_lo;
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const float z = points.z()[block.points[samples[s]]];
+    z_lo = std::min(z_lo, z), z_hi = std::max(z_hi, z);
+  }
+  const long long layers =
+      samples.empty() ? 1 : std::clamp(static_cast<long long>((z_hi - z_lo) / cell) + 1, 1LL, kMaxLayers);
+  auto cell_of = [&](double v, double origin, long long count) {
+    return std::clamp(static_cast<long long>(std::floor((v - origin) / cell)), 0LL, count - 1);
+  };
+  auto cell_index = [&](long long x, long long y, long long z) {
+    return static_cast<std::size_t>((z * kSide + y) * kSide + x);
   };
   // Counting sort of samples into cells (the first copy of each sampled point is enough).
-  std::vector<std::uint32_t> start(kSide * kSide + 1, 0), items;
+  std::vector<std::uint32_t> start(static_cast<std::size_t>(kSide * kSide * layers) + 1, 0), items;
   std::vector<std::uint32_t> sample_cell(samples.size(), kNone);
   for (std::size_t s = 0; s < samples.size(); ++s) {
     if (out[samples[s]] != s) continue;
     const std::uint32_t p = block.points[samples[s]];
-    sample_cell[s] = static_cast<std::uint32_t>(cell_of(points.y()[p], block.origin_y) * kSide +
-                                                cell_of(points.x()[p], block.origin_x));
+    sample_cell[s] = static_cast<std::uint32_t>(cell_index(cell_of(points.x()[p], block.origin_x, kSide),
+                                                           cell_of(points.y()[p], block.origin_y, kSide),
+                                                           cell_of(points.z()[p], z_lo, layers)));
     ++start[sample_cell[s] + 1];
   }
   for (std::size_t c = 0; c < start.size() - 1; ++c) start[c + 1] += start[c];
@@ -78,32 +92,39 @@ std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block
   for (std::size_t s = 0; s < samples.size(); ++s) {
     if (sample_cell[s] != kNone) items[fill[sample_cell[s]]++] = static_cast<std::uint32_t>(s);
   }
+  const long long rings = std::max(kSide, layers);
   // Each point's search is independent and writes only its own entry, so
   // the points are split over threads (serial, it showed in a whole run's time).
   const auto search = [&](std::size_t i) {
     const std::uint32_t p = block.points[i];
-    const long long cx = cell_of(points.x()[p], block.origin_x), cy = cell_of(points.y()[p], block.origin_y);
+    const long long cx = cell_of(points.x()[p], block.origin_x, kSide);
+    const long long cy = cell_of(points.y()[p], block.origin_y, kSide);
+    const long long cz = cell_of(points.z()[p], z_lo, layers);
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t best_s = kNone;
-    for (long long r = 0; r < kSide; ++r) {
-      // Every cell at ring r is at least (r - 1) cells away in x or y.
+    const auto visit = [&](long long x, long long y, long long z) {
+      const std::size_t c = cell_index(x, y, z);
+      for (std::uint32_t k = start[c]; k < start[c + 1]; ++k) {
+        const std::uint32_t s = items[k];
+        const double d = dist2(points, p, block.points[samples[s]]);
+        if (d < best || (d == best && s < best_s)) best = d, best_s = s;
+      }
+    };
+    for (long long r = 0; r < rings; ++r) {
+      // Every cell on the shell of ring r is at least (r - 1) cells away in
+      // x, y or z (also for points clamped into the grid's end cells).
       if (r >= 1) {
         const double reach = (static_cast<double>(r) - 1.0) * cell;
         if (reach > 0.0 && reach * reach > best) break;
       }
-      for (long long y = cy - r; y <= cy + r; ++y) {
-        if (y < 0 || y >= kSide) continue;
-        const bool edge_row = (y == cy - r || y == cy + r);
-        for (long long x = cx - r; x <= cx + r; x += (edge_row ? 1 : 2 * r)) {
-          if (x >= 0 && x < kSide) {
-            const std::size_t c = static_cast<std::size_t>(y * kSide + x);
-            for (std::uint32_t k = start[c]; k < start[c + 1]; ++k) {
-              const std::uint32_t s = items[k];
-              const double d = dist2(points, p, block.points[samples[s]]);
-              if (d < best || (d == best && s < best_s)) best = d, best_s = s;
-            }
+      for (long long z = std::max(cz - r, 0LL); z <= std::min(cz + r, layers - 1); ++z) {
+        for (long long y = std::max(cy - r, 0LL); y <= std::min(cy + r, kSide - 1); ++y) {
+          if (r == 0 || z == cz - r || z == cz + r || y == cy - r || y == cy + r) {
+            for (long long x = std::max(cx - r, 0LL); x <= std::min(cx + r, kSide - 1); ++x) visit(x, y, z);
+          } else {  // inside the shell's faces: only its two x ends
+            if (cx - r >= 0) visit(cx - r, y, z);
+            if (cx + r < kSide) visit(cx + r, y, z);
           }
-          if (r == 0) break;
         }
       }
     }

@@ -38,7 +38,8 @@ class ScoreAccumulator {
 };
 
 // For each of block.points, the index into `samples` of its own copy or of
-// the nearest (3-D) sampled point. Uses an xy grid; nearest_sample_reference
+// the nearest (3-D) sampled point (the lowest sample index among equally
+// near ones). Uses a 3-D grid; nearest_sample_reference
 // is the brute-force definition it is tested against.
 std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block& block,
                                           std::span<const std::uint32_t> samples);
