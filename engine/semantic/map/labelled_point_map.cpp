@@ -32,10 +32,20 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
   std::vector<std::uint32_t> of_point(scan.size(), kNoPoint);
   const bool colours = scan.has_colors() && (points_.empty() || points_.has_colors());
   if (colours && !points_.has_colors()) points_.enable_colors();
+  // Neighbouring points of a scan (a depth image's row, a ring) often share
+  // a cell: the last cell's point is taken without a hash lookup.
+  std::uint64_t last_key = 0;
+  std::uint32_t last_point = kNoPoint;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
     if (!in_reach(x, y, z)) continue;
-    const auto [it, fresh] = index_.try_emplace(cell_key(x, y, z), static_cast<std::uint32_t>(points_.size()));
+    const std::uint64_t key = cell_key(x, y, z);
+    if (last_point != kNoPoint && key == last_key) {
+      of_point[i] = last_point;
+      continue;
+    }
+    const auto [it, fresh] = index_.try_emplace(key, static_cast<std::uint32_t>(points_.size()));
+    last_key = key, last_point = it->second;
     if (fresh) {
       points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
       if (points_.has_colors()) {

@@ -61,19 +61,24 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
   }
 }
 
-// Deck in the 3 x 3 columns around (x, y) (each a radius wide, so every
-// point within the radius is among them) whose height span reaches into
-// (z + min_rise, z + max_rise]. Coarser than the radius by up to twice, and
-// a column's span stands for all its points: cheap, and the rises are loose.
-bool RampDeckMemory::under_a_deck(double x, double y, double z) const {
-  const double inv = 1.0 / settings_.radius;
-  const std::int64_t cx = grid_keys::index(x, inv), cy = grid_keys::index(y, inv);
+RampDeckMemory::DecksAround RampDeckMemory::decks_around(std::int64_t cx, std::int64_t cy) const {
+  DecksAround around;
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
       const auto it = columns_.find(grid_keys::column_key(cx + dx, cy + dy));
-      if (it == columns_.end()) continue;
-      if (it->second.high > z + settings_.min_rise && it->second.low <= z + settings_.max_rise) return true;
+      if (it != columns_.end()) around.spans[around.count++] = it->second;
     }
+  }
+  return around;
+}
+
+// Deck in the 3 x 3 columns around the point's (each a radius wide, so every
+// point within the radius is among them) whose height span reaches into
+// (z + min_rise, z + max_rise]. Coarser than the radius by up to twice, and
+// a column's span stands for all its points: cheap, and the rises are loose.
+bool RampDeckMemory::under_a_deck(const DecksAround& decks, double z) const {
+  for (int c = 0; c < decks.count; ++c) {
+    if (decks.spans[c].high > z + settings_.min_rise && decks.spans[c].low <= z + settings_.max_rise) return true;
   }
   return false;
 }
@@ -95,10 +100,20 @@ std::size_t RampDeckMemory::label_under_known_decks(PointBuffer& points) const {
   ClassMove wall_to_ramp(points, ClassId::Wall, ClassId::InclinedRamp);
   ClassMove other_to_ramp(points, ClassId::Other, ClassId::InclinedRamp);
   std::size_t changed = 0;
+  // Neighbouring points (a depth image's row, a ring) mostly share a
+  // column: its decks are looked up once for the run of them.
+  const double inv = 1.0 / settings_.radius;
+  std::int64_t last_cx = 0, last_cy = 0;
+  bool looked_up = false;
+  DecksAround decks;
   for (std::size_t p = 0; p < points.size(); ++p) {
-    if ((labels[p] != wall && labels[p] != other) || !in_reach(xs[p], ys[p]) || !under_a_deck(xs[p], ys[p], zs[p])) {
-      continue;
+    if ((labels[p] != wall && labels[p] != other) || !in_reach(xs[p], ys[p])) continue;
+    const std::int64_t cx = grid_keys::index(xs[p], inv), cy = grid_keys::index(ys[p], inv);
+    if (!looked_up || cx != last_cx || cy != last_cy) {
+      decks = decks_around(cx, cy);
+      last_cx = cx, last_cy = cy, looked_up = true;
     }
+    if (!under_a_deck(decks, zs[p])) continue;
     (labels[p] == wall ? wall_to_ramp : other_to_ramp).apply(p);
     ++changed;
   }

@@ -81,8 +81,14 @@ class RampDeckMemory {
   struct HeightSpan {
     float low, high;  // lowest and highest deck point in the column
   };
+  // The deck spans of the 3 x 3 columns around column (cx, cy).
+  struct DecksAround {
+    HeightSpan spans[9];
+    int count = 0;
+  };
   void remember_decks(const PointBuffer& points);
-  bool under_a_deck(double x, double y, double z) const;
+  DecksAround decks_around(std::int64_t cx, std::int64_t cy) const;
+  bool under_a_deck(const DecksAround& decks, double z) const;
 
   RampSideSettings settings_;
   std::unordered_map<std::uint64_t, HeightSpan> columns_;

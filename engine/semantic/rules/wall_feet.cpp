@@ -58,17 +58,25 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
 
   ClassMove to_terrain(points, ClassId::Wall, ClassId::Terrain);
   std::size_t changed = 0;
+  // Neighbouring points (a depth image's row, a ring) mostly share a
+  // column: the floor around it is summed once for the run of them.
+  std::int64_t last_cx = 0, last_cy = 0;
+  bool summed = false;
+  FloorSum around;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != wall || !in_reach(xs[p], ys[p])) continue;
     const std::int64_t cx = grid_keys::index(xs[p], inv), cy = grid_keys::index(ys[p], inv);
-    FloorSum around;
-    for (std::int64_t dx = -1; dx <= 1; ++dx) {
-      for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        const auto it = floor.find(grid_keys::column_key(cx + dx, cy + dy));
-        if (it == floor.end()) continue;
-        around.points += it->second.points;
-        around.height_sum += it->second.height_sum;
+    if (!summed || cx != last_cx || cy != last_cy) {
+      around = {};
+      for (std::int64_t dx = -1; dx <= 1; ++dx) {
+        for (std::int64_t dy = -1; dy <= 1; ++dy) {
+          const auto it = floor.find(grid_keys::column_key(cx + dx, cy + dy));
+          if (it == floor.end()) continue;
+          around.points += it->second.points;
+          around.height_sum += it->second.height_sum;
+        }
       }
+      last_cx = cx, last_cy = cy, summed = true;
     }
     if (around.points < s.min_floor_points) continue;
     const double floor_height = around.height_sum / static_cast<double>(around.points);
