@@ -9,9 +9,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
@@ -68,7 +66,8 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
     const std::vector<float> features = block_features(points, indices, frame, rgb);
     std::vector<float>& s = scores[b];
     s.resize(indices.size() * classes);
-    model_.forward(features.data(), indices.size(), s.data(), workspaces_.local());
+    DgcnnWorkspacePool::Loan workspace = workspaces_.borrow();
+    model_.forward(features.data(), indices.size(), s.data(), workspace.get());
     for (std::size_t i = 0; i < indices.size(); ++i) {  // softmax per row
       float* row = s.data() + i * classes;
       const float top = *std::max_element(row, row + classes);
@@ -77,11 +76,7 @@ DgcnnClassifyStats DgcnnClassifier::classify(PointBuffer& points) const {
       for (std::size_t c = 0; c < classes; ++c) row[c] = static_cast<float>(row[c] / sum);
     }
   };
-  tbb::parallel_for(std::size_t{0}, part.blocks.size(), [&](std::size_t b) {
-    // Isolated: a thread waiting inside this block's kernels must not take up
-    // another block, which would take the same thread's workspace.
-    tbb::this_task_arena::isolate([&] { classify_block(b); });
-  });
+  tbb::parallel_for(std::size_t{0}, part.blocks.size(), classify_block);
 
   ScoreAccumulator acc(points.size(), classes);
   for (std::size_t b = 0; b < part.blocks.size(); ++b) acc.add_block(points, part.blocks[b], samples[b], scores[b]);

@@ -5,12 +5,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include "engine/core/point_buffer.hpp"
 #include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
-#include "engine/semantic/dgcnn/dgcnn_workspace.hpp"
+#include "engine/semantic/dgcnn/dgcnn_workspace_pool.hpp"
 
 namespace sarmap {
 
@@ -45,16 +43,16 @@ class DgcnnClassifier {
   // logits' softmax probabilities, averaged over blocks) on `points`; the
   // label is the arg-max of those channels (ClassProbabilities). A 9-channel
   // model needs colours. Runs in the caller's TBB arena; calls from several
-  // threads at once are safe (each thread has its own workspace).
+  // threads at once are safe (each block borrows its own workspace).
   DgcnnClassifyStats classify(PointBuffer& points) const;
 
  private:
   const DgcnnModel& model_;
   DgcnnClassifierSettings settings_;
   ClassProbabilities class_probabilities_;
-  // One forward pass's buffers per thread, kept between calls (a scan's
-  // blocks would otherwise allocate and zero them again for every scan).
-  mutable tbb::enumerable_thread_specific<DgcnnWorkspace> workspaces_;
+  // Forward-pass buffers kept between calls (a scan's blocks would
+  // otherwise allocate and zero them again for every scan).
+  mutable DgcnnWorkspacePool workspaces_;
 };
 
 }  // namespace sarmap

@@ -8,9 +8,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
@@ -113,9 +111,8 @@ DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
 std::size_t DgcnnMapClassifier::classify_blocks(const std::vector<MapBlock*>& ready) {
   std::vector<std::vector<std::uint8_t>> scores(ready.size());
   tbb::parallel_for(std::size_t{0}, ready.size(), [&](std::size_t b) {
-    // Isolated: a thread waiting inside this block's kernels must not take up
-    // another block, which would take the same thread's workspace.
-    tbb::this_task_arena::isolate([&] { scores[b] = classify_block(*ready[b], workspaces_.local()); });
+    DgcnnWorkspacePool::Loan workspace = workspaces_.borrow();
+    scores[b] = classify_block(*ready[b], workspace.get());
   });
   for (std::size_t b = 0; b < ready.size(); ++b) {
     MapBlock& block = *ready[b];

@@ -18,13 +18,11 @@
 #include <cstdint>
 #include <vector>
 
-#include <tbb/enumerable_thread_specific.h>
-
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/state_stream.hpp"
 #include "engine/semantic/dgcnn/class_probabilities.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
-#include "engine/semantic/dgcnn/dgcnn_workspace.hpp"
+#include "engine/semantic/dgcnn/dgcnn_workspace_pool.hpp"
 #include "engine/semantic/map/class_delays.hpp"
 #include "engine/semantic/map/labelled_point_map.hpp"
 #include "engine/semantic/map/map_block_schedule.hpp"
@@ -117,9 +115,9 @@ class DgcnnMapClassifier {
   std::vector<std::uint32_t> changed_;
   std::uint32_t scans_ = 0;  // classify() calls
   ClassDelays delays_;
-  // One forward pass's buffers per thread, kept between scans: allocating
-  // and zeroing them for every scan's blocks showed in a whole run's time.
-  tbb::enumerable_thread_specific<DgcnnWorkspace> workspaces_;
+  // Forward-pass buffers kept between scans: allocating and zeroing them
+  // for every scan's blocks showed in a whole run's time.
+  DgcnnWorkspacePool workspaces_;
 };
 
 template <class Predicate>
