@@ -68,9 +68,9 @@ class DgcnnPointClassifier final : public PointClassifier {
   const DgcnnMapClassifier* accumulated_map() const override { return on_map_ ? &*on_map_ : nullptr; }
   std::size_t relabel(PointBuffer& points) const override {
     if (!on_map_) return PointClassifier::relabel(points);
-    on_map_->relabel(points);
-    rules_.reapply(points);
-    return count_unknown(points);
+    const std::size_t unknown = on_map_->relabel(points);
+    rules_.reapply(points);  // moves labels between classes only, never to or from unknown
+    return unknown;
   }
   std::size_t finish() override { return on_map_ ? on_map_->finish() : 0; }
   std::size_t forget(const std::function<bool(double, double, double)>& forget) override {
