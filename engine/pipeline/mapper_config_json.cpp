@@ -40,6 +40,7 @@ void visit_config(V& v, C& c) {
     v.field("per_scan", k.per_scan);
     v.field("map_cell", k.map_cell);
     v.field("map_growth", k.map_growth);
+    v.field("map_min_new_points", k.map_min_new_points);
     v.group("dgcnn", [&] {
       v.field("stride", k.dgcnn.stride);
       v.field("min_points", k.dgcnn.min_points);

@@ -50,6 +50,7 @@ DgcnnMapClassifierSettings map_settings(const ClassifierConfig& config) {
   s.stride = config.dgcnn.stride;
   s.min_points = config.dgcnn.min_points;
   s.growth = config.map_growth;
+  s.min_new_points = config.map_min_new_points;
   s.seed = config.dgcnn.seed;
   return s;
 }

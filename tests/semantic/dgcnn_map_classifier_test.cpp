@@ -41,6 +41,7 @@ DgcnnMapClassifierSettings settings() {
   s.cell = 0.05;
   s.min_points = 100;
   s.growth = 0.25;
+  s.min_new_points = 40;
   return s;
 }
 
@@ -66,7 +67,7 @@ TEST(DgcnnMapClassifier, ClassifiesABlockWhenItHasGrownPastTheThresholdOrStopped
   RELEASE_ONLY();  // many network blocks, minutes under the sanitizers; the other cases cover the code there
   DgcnnMapClassifier classifier(fixture_model(), settings());
   std::vector<DgcnnMapClassifyStats> stats;
-  std::size_t grown = 0, quiet = 0;
+  std::size_t grown = 0, quiet = 0, held_back = 0;
   // Scans 0-7 grow the scene; 8 and 9 see what scan 0 saw, adding little.
   for (int k = 0; k < 10; ++k) {
     PointBuffer scan = growing_scan(k < 8 ? k : 0);
@@ -87,10 +88,15 @@ TEST(DgcnnMapClassifier, ClassifiesABlockWhenItHasGrownPastTheThresholdOrStopped
         const BlockBefore old = before.count({j, i}) ? before[{j, i}] : BlockBefore{};
         const std::size_t n = b->points.size();
         const bool grew = n > old.points;
-        // Grown past a quarter of its last classification (or never
-        // classified), or not grown with points its last one did not see.
-        const bool due_to_growth = grew && n >= 100 && (old.classified_points == 0 || n >= 1.25 * old.classified_points);
-        const bool due_to_quiet = !grew && n >= 100 && n > old.classified_points;
+        // Grown past a quarter of its last classification and by 40 points
+        // (or never classified), or not grown with points its last one did
+        // not see (40 of them, if it was classified before).
+        const std::size_t unseen = n - old.classified_points;
+        const bool enough_new = old.classified_points == 0 || unseen >= 40;
+        const bool due_to_growth = grew && n >= 100 && enough_new &&
+                                   (old.classified_points == 0 || n >= 1.25 * old.classified_points);
+        const bool due_to_quiet = !grew && n >= 100 && unseen > 0 && enough_new;
+        held_back += n >= 100 && unseen > 0 && !enough_new && (!grew || n >= 1.25 * old.classified_points);
         const bool due = due_to_growth || due_to_quiet;
         EXPECT_EQ(b->classifications, old.classifications + (due ? 1 : 0)) << "scan " << k << " block " << i << "," << j;
         reclassified += b->classifications - old.classifications;
@@ -108,6 +114,7 @@ TEST(DgcnnMapClassifier, ClassifiesABlockWhenItHasGrownPastTheThresholdOrStopped
   EXPECT_GT(stats.front().blocks, 0u);
   EXPECT_GT(grown, 0u);
   EXPECT_GT(quiet, 0u);
+  EXPECT_GT(held_back, 0u);  // grown enough or quiet, but with too few new points
   EXPECT_EQ(classifier.blocks_classified(),
             std::accumulate(stats.begin(), stats.end(), std::size_t{0},
                             [](std::size_t a, const DgcnnMapClassifyStats& s) { return a + s.blocks; }));

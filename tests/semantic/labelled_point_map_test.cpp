@@ -253,5 +253,61 @@ TEST(MapBlockSchedule, ABlockIsReadyAtItsMinimumThenOnlyAfterGrowingEnough) {
   EXPECT_THROW(MapBlockSchedule({1.0, 0.5, 100, -1.0}), Error);
 }
 
+TEST(MapBlockSchedule, ABlockClassifiedBeforeWaitsForItsMinimumOfNewPointsGrowingOrQuiet) {
+  MapBlockSettings settings;
+  settings.block_size = 1.0;
+  settings.stride = 1.0;
+  settings.min_points = 100;
+  settings.growth = 0.25;
+  settings.min_new_points = 50;
+  MapBlockSchedule schedule(settings);
+  PointBuffer points;
+  std::vector<std::uint32_t> batch;
+  auto add = [&](int n) {
+    batch.clear();
+    for (int k = 0; k < n; ++k) {
+      batch.push_back(static_cast<std::uint32_t>(points.size()));
+      points.push_back(0.5f, 0.5f, 0.0f);
+    }
+    schedule.add_points(points, batch);
+  };
+  auto classify_ready = [&] {
+    std::vector<MapBlock*> ready = schedule.ready();
+    for (MapBlock* block : ready) block->classified_points = block->points.size();  // as the classifier does
+    return ready.size();
+  };
+  add(100);
+  EXPECT_EQ(classify_ready(), 1u);  // the first classification needs only min_points
+  add(30);                          // 130 >= 1.25 x 100, but 30 new points
+  EXPECT_EQ(classify_ready(), 0u);
+  EXPECT_EQ(classify_ready(), 0u);  // quiet, with 30 unseen points: still waiting
+  add(19);                          // 49 new
+  EXPECT_EQ(classify_ready(), 0u);
+  add(1);  // 50 new
+  EXPECT_EQ(classify_ready(), 1u);
+  // Large blocks: the fraction decides (25 % of 150 = 37.5 < 50; 25 % of 400 = 100 > 50).
+  add(350);
+  EXPECT_EQ(classify_ready(), 1u);  // 500
+  add(100);                         // 600 < 625
+  EXPECT_EQ(classify_ready(), 0u);
+  EXPECT_EQ(classify_ready(), 1u);  // quiet with 100 unseen points
+  // Nothing the fraction allows is held back when min_new_points is 0.
+  settings.min_new_points = 0;
+  MapBlockSchedule eager(settings);
+  PointBuffer few;
+  std::vector<std::uint32_t> first;
+  for (std::uint32_t k = 0; k < 101; ++k) {
+    first.push_back(k);
+    few.push_back(0.5f, 0.5f, 0.0f);
+  }
+  eager.add_points(few, std::span(first).first(100));
+  std::vector<MapBlock*> ready = eager.ready();
+  ASSERT_EQ(ready.size(), 1u);
+  ready[0]->classified_points = 100;
+  eager.add_points(few, std::span(first).subspan(100));
+  EXPECT_TRUE(eager.ready().empty());  // grew, 101 < 125
+  EXPECT_EQ(eager.ready().size(), 1u);  // quiet with one unseen point
+}
+
 }  // namespace
 }  // namespace sarmap

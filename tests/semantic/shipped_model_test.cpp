@@ -208,16 +208,18 @@ TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
 // every kTestEvery-th frame of test arena 9101 seen by the depth camera and
 // by the 16-ring LiDAR, its kept points taking the map's final classes and
 // the rules as `semantic_points.ply` does, scored against the simulator's
-// labels. Recorded with this code on 2026-11-28 (machine A); the whole test
-// split's figures are in PERF.md.
+// labels. Recorded with this code on 2026-11-28 (machine A), again when
+// blocks classified before waited for 512 new points (depth 0.9596 -> 0.9588,
+// LiDAR 0.9019 -> 0.8984 mean IoU); the whole test split's figures are in
+// PERF.md.
 constexpr std::uint64_t kTestArena = 9101;
 constexpr std::size_t kTestEvery = 8;
-constexpr double kRecordedTestDepthMeanIou = 0.9596;
+constexpr double kRecordedTestDepthMeanIou = 0.9588;
 constexpr double kRecordedTestDepthInclinedIou = 0.9654;
-constexpr double kRecordedTestDepthFlatIou = 0.9012;
-constexpr double kRecordedTestLidarMeanIou = 0.9019;
-constexpr double kRecordedTestLidarInclinedIou = 0.9675;
-constexpr double kRecordedTestLidarFlatIou = 0.6918;
+constexpr double kRecordedTestDepthFlatIou = 0.8979;
+constexpr double kRecordedTestLidarMeanIou = 0.8984;
+constexpr double kRecordedTestLidarInclinedIou = 0.9618;
+constexpr double kRecordedTestLidarFlatIou = 0.6828;
 
 eval::ConfusionMatrix map_test_arena(SensorType sensor) {
   sim::RandomSensor seen_by;

@@ -27,6 +27,7 @@ MapBlockSettings block_settings(const DgcnnModel& model, const DgcnnMapClassifie
   b.stride = s.stride > 0.0 ? s.stride : kDefaultStrideFraction * b.block_size;
   b.min_points = s.min_points;
   b.growth = s.growth;
+  b.min_new_points = s.min_new_points;
   return b;
 }
 

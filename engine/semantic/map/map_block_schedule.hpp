@@ -23,9 +23,15 @@ struct MapBlockSettings {
   double stride = 0.75;          // metres between block origins, in (block_size / 16, block_size]
   std::size_t min_points = 100;  // sparser blocks wait
   double growth = 0.25;          // classified again once grown by this fraction of the last count
+  // ... and by at least this many points: each classification costs the
+  // same whatever the block holds, so a sparse block is not classified again
+  // for every few points (a LiDAR's far blocks grow a little every scan).
+  std::size_t min_new_points = 0;
   // Also classify a block again when it holds points its last classification
   // did not see and has stopped growing (no new point in the last call), so
-  // that no point waits for a growth that may never come.
+  // that no point waits for a growth that may never come. A block classified
+  // before needs min_new_points unseen points for this too: until then its
+  // unseen points borrow their neighbours' classes.
   bool classify_when_quiet = true;
 };
 
