@@ -3,7 +3,8 @@
 // labelled PLY: the output keeps every point, has valid labels and per-class
 // scores, and carries the input labels as gt_label; one frame of a sequence
 // (--frame) is classified in the world frame; the rule chain runs after the
-// network and --disable-rule turns rules off by name; bad invocations fail.
+// network and --disable-rule turns rules off by name; --classifier geometric
+// labels as the baseline does in process; bad invocations fail.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -19,6 +20,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/io/point_cloud_file.hpp"
+#include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/rules/rule_chain.hpp"
 #include "tests/file_bytes.hpp"
 #include "tests/semantic/dgcnn_test_data.hpp"
@@ -148,6 +150,47 @@ TEST(ClassifyCloud, RunsTheRuleChainAfterTheNetworkAndDisablesRulesByName) {
   EXPECT_EQ(WEXITSTATUS(status), 2);
   EXPECT_NE(slurp(dir / "err").find("wall_legs"), std::string::npos) << slurp(dir / "err");
   EXPECT_FALSE(fs::exists(dir / "bad.ply"));
+  fs::remove_all(dir);
+}
+
+// `--classifier geometric` labels any cloud (a scan, or a run's accumulated
+// semantic_points.ply) as GeometricClassifier with `sarmap run`'s settings
+// does, keeps the input labels as gt_label, and refuses the DGCNN's options.
+TEST(ClassifyCloud, GeometricBaselineLabelsAsInProcessAndRefusesNetworkOptions) {
+  const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_geometric_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  PointBuffer cloud;  // a floor and a wall along it on a 3 cm grid, labelled as the truth
+  for (float x = 0.0f; x < 2.4f; x += 0.03f) {
+    for (float y = 0.0f; y < 2.4f; y += 0.03f) cloud.push_back(x, y, 0.0f);
+    for (float z = 0.03f; z < 1.2f; z += 0.03f) cloud.push_back(x, 2.4f, z);
+  }
+  cloud.enable_labels();
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    cloud.labels()[p] = static_cast<std::uint8_t>(cloud.z()[p] == 0.0f ? ClassId::Terrain : ClassId::Wall);
+  }
+  write_point_cloud(dir / "in.ply", cloud);
+  const std::string in = (dir / "in.ply").string() + " --classifier geometric --out ";
+  ASSERT_EQ(run_classify(in + (dir / "out.ply").string(), dir / "err"), 0) << slurp(dir / "err");
+  const PointBuffer out = read_point_cloud(dir / "out.ply");
+  PointBuffer expected = cloud;
+  GeometricClassifier{}.classify(expected);
+  ASSERT_EQ(out.size(), cloud.size());
+  ASSERT_TRUE(out.has_gt_labels());
+  EXPECT_EQ(out.score_count(), 0u);
+  std::size_t right = 0;
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    ASSERT_EQ(out.labels()[p], expected.labels()[p]) << p;
+    ASSERT_EQ(out.gt_labels()[p], cloud.labels()[p]) << p;
+    right += out.labels()[p] == cloud.labels()[p];
+  }
+  EXPECT_GT(right, out.size() * 9 / 10) << "a floor and a wall the baseline should get right";
+  const std::string model = "--model " + kDgcnnDataDir + "model_c6.safetensors";
+  for (const std::string& option : {model, std::string("--disable-rule wall_feet"), std::string("--block-stride 1")}) {
+    EXPECT_EQ(WEXITSTATUS(run_classify(in + (dir / "bad.ply").string() + " " + option, dir / "err")), 1) << option;
+    EXPECT_NE(slurp(dir / "err").find("DGCNN option"), std::string::npos) << slurp(dir / "err");
+    EXPECT_FALSE(fs::exists(dir / "bad.ply"));
+  }
+  EXPECT_EQ(WEXITSTATUS(run_classify(in + (dir / "bad.ply").string() + " --classifier svm", dir / "err")), 2);
   fs::remove_all(dir);
 }
 

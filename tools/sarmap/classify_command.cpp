@@ -3,7 +3,10 @@
 // writes the (N, classes) logits. This is how sarmap is compared with any
 // other implementation of the network (tools/python/dgcnn_reference.py run).
 // `sarmap classify INPUT --model M --out OUT.ply`: labels a PLY/PCD cloud or
-// frame --frame N of a sequence folder (world frame) with DgcnnClassifier.
+// frame --frame N of a sequence folder (world frame) with DgcnnClassifier and
+// the rule chain, or with the geometric baseline (`--classifier geometric`):
+// a scan, or an accumulated map such as a run's semantic_points.ply, so that
+// both classifiers can be compared on the same map points.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +25,7 @@
 #include "engine/io/scan_source.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
+#include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/rules/rule_chain.hpp"
 #include "engine/pipeline/point_classifier.hpp"
 #include "kernels/simd_level.hpp"
@@ -35,6 +39,7 @@ namespace sarmap::cli {
 namespace {
 
 struct ClassifyOptions {
+  std::string classifier = "dgcnn";
   std::string input;
   std::size_t frame = 0;
   SequenceInputArgs sequence;
@@ -90,22 +95,8 @@ void run_raw_block(const ClassifyOptions& o) {
   write_npy_f32(o.logits, shape, logits);
 }
 
-void run_cloud(const ClassifyOptions& o) {
-  const auto limit = thread_limit(o);
-  if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "classify INPUT needs --out OUT.ply|OUT.pcd");
-  point_cloud_format_of(o.out);  // reject an unknown output extension before the work
-  if (!(o.stride >= 0) || !std::isfinite(o.stride)) {
-    throw Error(ErrorCode::InvalidArgument, "classify: --block-stride must be a finite number >= 0");
-  }
-  const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
-  DgcnnClassifierSettings settings;
-  settings.stride = o.stride;
-  settings.min_points = o.min_points;
-  settings.seed = o.seed;
-  const DgcnnClassifier classifier(model, settings);
-  RuleChainSettings rule_settings;
-  for (const std::string& rule : o.disabled_rules) rule_enabled(rule_settings, rule) = false;
-  RuleChain rules(rule_settings);  // this frame's ramp decks only
+// Frame o.frame of the input, its labels (if any) kept as gt_label.
+PointBuffer read_input(const ClassifyOptions& o) {
   const std::unique_ptr<ScanSource> source = open_input_sequence(o.input, o.sequence);
   if (o.frame >= source->size()) {
     throw Error(ErrorCode::InvalidArgument, o.input + ": --frame " + std::to_string(o.frame) + " but the sequence has " +
@@ -120,6 +111,42 @@ void run_cloud(const ClassifyOptions& o) {
     points.enable_gt_labels();
     std::copy(points.labels().begin(), points.labels().end(), points.gt_labels().begin());
   }
+  return std::move(points);
+}
+
+void check_output(const ClassifyOptions& o) {
+  if (o.out.empty()) throw Error(ErrorCode::InvalidArgument, "classify INPUT needs --out OUT.ply|OUT.pcd");
+  point_cloud_format_of(o.out);  // reject an unknown output extension before the work
+}
+
+void run_cloud_geometric(const ClassifyOptions& o) {
+  const auto limit = thread_limit(o);
+  check_output(o);
+  const GeometricClassifier classifier(pipeline::ClassifierConfig{}.geometric);  // `sarmap run`'s settings
+  PointBuffer points = read_input(o);
+  const GeometricClassifyStats stats = classifier.classify(points);
+  write_point_cloud(o.out, points);
+  if (o.quiet) return;
+  std::printf("classified %zu points with the geometric baseline; %zu without a surface normal\n", points.size(),
+              stats.without_normal);
+}
+
+void run_cloud(const ClassifyOptions& o) {
+  const auto limit = thread_limit(o);
+  check_output(o);
+  if (!(o.stride >= 0) || !std::isfinite(o.stride)) {
+    throw Error(ErrorCode::InvalidArgument, "classify: --block-stride must be a finite number >= 0");
+  }
+  const DgcnnModel model = DgcnnModel::load(o.model, chosen_level(o));
+  DgcnnClassifierSettings settings;
+  settings.stride = o.stride;
+  settings.min_points = o.min_points;
+  settings.seed = o.seed;
+  const DgcnnClassifier classifier(model, settings);
+  RuleChainSettings rule_settings;
+  for (const std::string& rule : o.disabled_rules) rule_enabled(rule_settings, rule) = false;
+  RuleChain rules(rule_settings);  // this frame's ramp decks only
+  PointBuffer points = read_input(o);
   const DgcnnClassifyStats stats = classifier.classify(points);
   const RuleChanges changes = rules.apply(points);
   write_point_cloud(o.out, points);
@@ -137,10 +164,15 @@ void run_cloud(const ClassifyOptions& o) {
 
 void add_classify_command(CLI::App& app) {
   auto options = std::make_shared<ClassifyOptions>();
-  CLI::App* cmd = app.add_subcommand("classify", "Run the DGCNN semantic network");
+  CLI::App* cmd = app.add_subcommand("classify", "Label a cloud with the DGCNN semantic network (or the geometric baseline)");
   cmd->add_option("input", options->input, "A PLY/PCD cloud or a sequence folder to label")->check(CLI::ExistingPath);
   cmd->add_option("--frame", options->frame, "Frame of a sequence folder (default 0)")->check(finite_non_negative());
   add_sequence_input_options(cmd, options->sequence);
+  cmd->add_option("--classifier", options->classifier,
+                  "dgcnn (the network and its rules) or geometric (the normal- and height-based baseline, no model; "
+                  "the DGCNN's options do not apply)")
+      ->check(CLI::IsMember({"dgcnn", "geometric"}))
+      ->capture_default_str();
   cmd->add_option("--out", options->out, "Labelled cloud to write (.ply or .pcd): label, gt_label, per-class scores");
   // The same names and defaults as `sarmap run`'s; --stride and --min-points
   // are the names these options had before.
@@ -162,9 +194,20 @@ void add_classify_command(CLI::App& app) {
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--simd", options->simd, "Force an instruction set: sse4_2, avx2 or avx512");
   cmd->add_flag("--quiet", options->quiet, "No summary line (the labels go to --out or --logits)");
-  cmd->callback([options] {
+  cmd->callback([options, cmd] {
     if (options->raw_block.empty() == options->input.empty()) {
       throw Error(ErrorCode::InvalidArgument, "classify: give either INPUT (a cloud or sequence) or --raw-block BLOCK.npy");
+    }
+    if (options->classifier == "geometric") {
+      for (const char* dgcnn_only : {"--raw-block", "--model", "--logits", "--block-stride", "--min-block-points",
+                                     "--seed", "--disable-rule", "--simd"}) {
+        if (cmd->count(dgcnn_only) > 0) {
+          throw Error(ErrorCode::InvalidArgument,
+                      std::string("classify: ") + dgcnn_only + " is a DGCNN option; --classifier geometric needs none");
+        }
+      }
+      run_cloud_geometric(*options);
+      return;
     }
     if (options->model.empty()) options->model = shipped_ramp_model().string();
     if (options->raw_block.empty()) {
