@@ -1,0 +1,74 @@
+"""tools/python/training_blocks.py's map-level blocks: the accumulated map
+keeps the first point of each cube as a plain loop does, the map's cuts keep
+only cells that grew, and a LiDAR arena gives map-level blocks end to end."""
+
+import os
+import sys
+
+import numpy as np
+
+from conftest import cli_path
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "python"))
+import training_blocks  # noqa: E402
+
+
+def random_frames(seed, count=5, n=400):
+    rng = np.random.default_rng(seed)
+    frames = []
+    for _ in range(count):
+        xyz = rng.uniform(-1.0, 3.0, (n, 3))
+        xyz[: n // 4] = np.round(xyz[: n // 4] / 0.05) * 0.05  # points on cube faces and shared cubes
+        frames.append((xyz, rng.integers(0, 6, n).astype(np.uint8)))
+    return frames
+
+
+def test_the_map_keeps_the_first_point_of_each_cube_as_a_plain_loop():
+    for seed in range(3):
+        frames = random_frames(seed)
+        xyz, labels, birth = training_blocks.map_points(frames, 0.1)
+        expected = {}
+        for f, (fx, fl) in enumerate(frames):
+            for p in range(len(fx)):
+                key = tuple(np.floor(fx[p] / 0.1).astype(np.int64))
+                if key not in expected:
+                    expected[key] = (tuple(fx[p]), fl[p], f)
+        got = {tuple(np.floor(xyz[k] / 0.1).astype(np.int64)): (tuple(xyz[k]), labels[k], birth[k])
+               for k in range(len(xyz))}
+        assert len(xyz) == len(expected)
+        assert got == expected
+        assert list(birth) == sorted(birth)  # in the order the frames added them
+    empty = training_blocks.map_points([], 0.1)
+    assert len(empty[0]) == 0
+
+
+def test_the_map_is_cut_into_grown_cells_only():
+    frames = random_frames(7, count=8, n=300)
+    blocks = list(training_blocks.map_snapshot_cells(frames, 0.05, 4, 1.0, 20))
+    assert blocks
+    sizes = {}
+    for origin, xyz, labels in blocks:
+        assert len(xyz) >= 20 and len(xyz) == len(labels)
+        assert np.all(xyz[:, 0] >= origin[0]) and np.all(xyz[:, 0] < origin[0] + 1.0)
+        assert np.all(xyz[:, 1] >= origin[1]) and np.all(xyz[:, 1] < origin[1] + 1.0)
+        assert len(xyz) > sizes.get(origin, 0)  # a cell is cut again only once it has grown
+        sizes[origin] = len(xyz)
+    # The last cut holds every cell of the whole map.
+    all_xyz, _, _ = training_blocks.map_points(frames, 0.05)
+    whole = {origin: len(idx) for origin, idx in training_blocks.cells(all_xyz, 1.0, 20)}
+    assert sizes == whole
+
+
+def test_a_lidar_arena_gives_map_level_blocks(tmp_path):
+    out = tmp_path / "lidar.npz"
+    training_blocks.main(["--sarmap", cli_path(), "--seeds", "1000", "--sensor", "lidar",
+                          "--sensor-args", "--rings 8 --samples 720", "--frames", "6", "--map-cell", "0.025",
+                          "--snapshots", "2", "--block-size", "1.5", "--min-points", "100", "--out", str(out)])
+    data = np.load(out)
+    assert str(data["sensor"]) == "lidar" and str(data["sensor_args"]) == "--rings 8 --samples 720"
+    assert float(data["map_cell"]) == 0.025 and int(data["snapshots"]) == 2
+    blocks = len(data["arena"])
+    assert blocks > 0 and len(data["offsets"]) == blocks + 1
+    sizes = np.diff(data["offsets"])
+    assert np.all(sizes >= 100) and np.all(sizes <= 2048)
+    assert set(np.unique(data["labels"])) <= set(range(6)) and len(set(np.unique(data["labels"])) - {0}) >= 2
