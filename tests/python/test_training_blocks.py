@@ -72,3 +72,33 @@ def test_a_lidar_arena_gives_map_level_blocks(tmp_path):
     sizes = np.diff(data["offsets"])
     assert np.all(sizes >= 100) and np.all(sizes <= 2048)
     assert set(np.unique(data["labels"])) <= set(range(6)) and len(set(np.unique(data["labels"])) - {0}) >= 2
+
+
+def test_joined_files_hold_every_block_of_each_with_its_sensor(tmp_path):
+    import join_blocks
+    rng = np.random.default_rng(3)
+
+    def blocks_file(path, sensor, sizes, seed):
+        offsets = np.r_[0, np.cumsum(sizes)].astype(np.int64)
+        np.savez(path, points=rng.normal(size=(offsets[-1], 3)).astype(np.float32),
+                 labels=rng.integers(0, 6, offsets[-1]).astype(np.uint8), offsets=offsets,
+                 origins=rng.normal(size=(len(sizes), 2)), arena=np.full(len(sizes), seed, np.int64),
+                 block_size=np.float64(1.5), min_points=np.int64(100), sensor=np.str_(sensor))
+        return np.load(path)
+
+    a = blocks_file(tmp_path / "a.npz", "depth", [120, 300], 1000)
+    b = blocks_file(tmp_path / "b.npz", "lidar", [150, 101, 200], 1001)
+    joined = join_blocks.join([tmp_path / "a.npz", tmp_path / "b.npz"])
+    assert list(joined["block_sensor"]) == ["depth"] * 2 + ["lidar"] * 3
+    assert list(joined["arena"]) == [1000] * 2 + [1001] * 3
+    for k, (src, block) in enumerate([(a, 0), (a, 1), (b, 0), (b, 1), (b, 2)]):
+        lo, hi = joined["offsets"][k], joined["offsets"][k + 1]
+        slo, shi = src["offsets"][block], src["offsets"][block + 1]
+        assert np.array_equal(joined["points"][lo:hi], src["points"][slo:shi])
+        assert np.array_equal(joined["labels"][lo:hi], src["labels"][slo:shi])
+    np.savez(tmp_path / "c.npz", **{**dict(b), "block_size": np.float64(1.0)})
+    try:
+        join_blocks.join([tmp_path / "a.npz", tmp_path / "c.npz"])
+        assert False, "files of different block sizes were joined"
+    except SystemExit as error:
+        assert "block sizes differ" in str(error)

@@ -1,0 +1,56 @@
+#!/usr/bin/python3
+# Joins training-block files of training_blocks.py (e.g. depth-camera and
+# LiDAR blocks of the same arenas) into one, for train_dgcnn.py's --data:
+#
+#   /usr/bin/python3 tools/python/join_blocks.py depth.npz lidar.npz --out both.npz
+#
+# The files must share the block size; each block keeps its arena seed, and
+# the joined file records each block's sensor (the `sensor` of its file).
+import argparse
+import os
+import sys
+
+import numpy as np
+
+
+def join(paths):
+    parts = [np.load(p) for p in paths]
+    sizes = {float(d["block_size"]) for d in parts}
+    if len(sizes) != 1:
+        raise SystemExit(f"join_blocks.py: the files' block sizes differ: {sorted(sizes)}")
+    points, labels, offsets, origins, arena, sensor = [], [], [np.zeros(1, np.int64)], [], [], []
+    base = 0
+    for path, d in zip(paths, parts):
+        for key in ("points", "labels", "offsets", "origins", "arena"):
+            if key not in d:
+                raise SystemExit(f"join_blocks.py: {path} has no '{key}': not a training_blocks.py file")
+        points.append(d["points"])
+        labels.append(d["labels"])
+        offsets.append(d["offsets"][1:] + base)
+        base += int(d["offsets"][-1])
+        origins.append(d["origins"])
+        arena.append(d["arena"])
+        per_block = d["block_sensor"] if "block_sensor" in d else \
+            np.full(len(d["arena"]), str(d["sensor"]) if "sensor" in d else "depth")
+        sensor.append(per_block.astype(str))
+    return {
+        "points": np.concatenate(points), "labels": np.concatenate(labels), "offsets": np.concatenate(offsets),
+        "origins": np.concatenate(origins), "arena": np.concatenate(arena),
+        "block_size": np.float64(sizes.pop()), "min_points": np.int64(min(int(d["min_points"]) for d in parts)),
+        "block_sensor": np.concatenate(sensor), "joined_from": np.array([os.path.abspath(p) for p in paths]),
+    }
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="join training-block files into one")
+    parser.add_argument("files", nargs="+", help="training_blocks.py .npz files")
+    parser.add_argument("--out", required=True, help=".npz file to write")
+    args = parser.parse_args(argv)
+    data = join(args.files)
+    np.savez(args.out, **data)
+    kinds = {s: int((data["block_sensor"] == s).sum()) for s in sorted(set(data["block_sensor"]))}
+    print(f"{len(data['arena'])} blocks ({kinds}), {len(data['labels'])} points -> {args.out}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
