@@ -218,95 +218,78 @@ TEST(MapBlockSchedule, EachPointJoinsEveryBlockThatHoldsIt) {
   EXPECT_EQ(edges.block_count(), 4u);
 }
 
-TEST(MapBlockSchedule, ABlockIsReadyAtItsMinimumThenOnlyAfterGrowingEnough) {
-  MapBlockSettings settings;
-  settings.block_size = 1.0;
-  settings.stride = 1.0;
-  settings.min_points = 100;
-  settings.growth = 0.25;
-  MapBlockSchedule schedule(settings);
-  PointBuffer points;
-  std::vector<std::uint32_t> batch;
-  auto add = [&](int n) {
-    batch.clear();
+// One unit block (block size = stride = 1 m) that points are added to a
+// batch at a time; classify_ready() marks the ready blocks classified, as
+// the classifier does, and says how many there were.
+class OneBlock {
+ public:
+  explicit OneBlock(std::size_t min_new_points) : schedule_(settings(min_new_points)) {}
+
+  void add(int n) {
+    std::vector<std::uint32_t> batch;
     for (int k = 0; k < n; ++k) {
-      batch.push_back(static_cast<std::uint32_t>(points.size()));
-      points.push_back(0.5f, 0.5f, 0.0f);
+      batch.push_back(static_cast<std::uint32_t>(points_.size()));
+      points_.push_back(0.5f, 0.5f, 0.0f);
     }
-    schedule.add_points(points, batch);
-  };
-  add(99);
-  EXPECT_TRUE(schedule.ready().empty());
-  add(1);
-  std::vector<MapBlock*> ready = schedule.ready();
-  ASSERT_EQ(ready.size(), 1u);
-  ready[0]->classified_points = ready[0]->points.size();  // as the classifier does
-  add(24);  // 124 < 1.25 x 100
-  EXPECT_TRUE(schedule.ready().empty());
-  add(1);  // 125
-  ready = schedule.ready();
-  ASSERT_EQ(ready.size(), 1u);
-  ready[0]->classified_points = ready[0]->points.size();
-  EXPECT_TRUE(schedule.ready().empty());  // nothing grew since
+    schedule_.add_points(points_, batch);
+  }
+  std::size_t classify_ready() {
+    const std::vector<MapBlock*> ready = schedule_.ready();
+    for (MapBlock* block : ready) block->classified_points = block->points.size();
+    return ready.size();
+  }
+
+ private:
+  static MapBlockSettings settings(std::size_t min_new_points) {
+    MapBlockSettings s;
+    s.block_size = 1.0;
+    s.stride = 1.0;
+    s.min_points = 100;
+    s.growth = 0.25;
+    s.min_new_points = min_new_points;
+    return s;
+  }
+
+  MapBlockSchedule schedule_;
+  PointBuffer points_;
+};
+
+TEST(MapBlockSchedule, ABlockIsReadyAtItsMinimumThenOnlyAfterGrowingEnough) {
+  OneBlock block(0);
+  block.add(99);
+  EXPECT_EQ(block.classify_ready(), 0u);
+  block.add(1);
+  EXPECT_EQ(block.classify_ready(), 1u);
+  block.add(24);  // 124 < 1.25 x 100
+  EXPECT_EQ(block.classify_ready(), 0u);
+  block.add(1);  // 125
+  EXPECT_EQ(block.classify_ready(), 1u);
+  EXPECT_EQ(block.classify_ready(), 0u);  // nothing grew since, nothing unseen
+  block.add(1);  // one new point: not grown enough, then quiet
+  EXPECT_EQ(block.classify_ready(), 0u);
+  EXPECT_EQ(block.classify_ready(), 1u);  // with min_new_points 0, one unseen point is enough
   EXPECT_THROW(MapBlockSchedule({1.0, 1.5, 100, 0.25}), Error);
   EXPECT_THROW(MapBlockSchedule({1.0, 0.01, 100, 0.25}), Error);
   EXPECT_THROW(MapBlockSchedule({1.0, 0.5, 100, -1.0}), Error);
 }
 
 TEST(MapBlockSchedule, ABlockClassifiedBeforeWaitsForItsMinimumOfNewPointsGrowingOrQuiet) {
-  MapBlockSettings settings;
-  settings.block_size = 1.0;
-  settings.stride = 1.0;
-  settings.min_points = 100;
-  settings.growth = 0.25;
-  settings.min_new_points = 50;
-  MapBlockSchedule schedule(settings);
-  PointBuffer points;
-  std::vector<std::uint32_t> batch;
-  auto add = [&](int n) {
-    batch.clear();
-    for (int k = 0; k < n; ++k) {
-      batch.push_back(static_cast<std::uint32_t>(points.size()));
-      points.push_back(0.5f, 0.5f, 0.0f);
-    }
-    schedule.add_points(points, batch);
-  };
-  auto classify_ready = [&] {
-    std::vector<MapBlock*> ready = schedule.ready();
-    for (MapBlock* block : ready) block->classified_points = block->points.size();  // as the classifier does
-    return ready.size();
-  };
-  add(100);
-  EXPECT_EQ(classify_ready(), 1u);  // the first classification needs only min_points
-  add(30);                          // 130 >= 1.25 x 100, but 30 new points
-  EXPECT_EQ(classify_ready(), 0u);
-  EXPECT_EQ(classify_ready(), 0u);  // quiet, with 30 unseen points: still waiting
-  add(19);                          // 49 new
-  EXPECT_EQ(classify_ready(), 0u);
-  add(1);  // 50 new
-  EXPECT_EQ(classify_ready(), 1u);
-  // Large blocks: the fraction decides (25 % of 150 = 37.5 < 50; 25 % of 400 = 100 > 50).
-  add(350);
-  EXPECT_EQ(classify_ready(), 1u);  // 500
-  add(100);                         // 600 < 625
-  EXPECT_EQ(classify_ready(), 0u);
-  EXPECT_EQ(classify_ready(), 1u);  // quiet with 100 unseen points
-  // Nothing the fraction allows is held back when min_new_points is 0.
-  settings.min_new_points = 0;
-  MapBlockSchedule eager(settings);
-  PointBuffer few;
-  std::vector<std::uint32_t> first;
-  for (std::uint32_t k = 0; k < 101; ++k) {
-    first.push_back(k);
-    few.push_back(0.5f, 0.5f, 0.0f);
-  }
-  eager.add_points(few, std::span(first).first(100));
-  std::vector<MapBlock*> ready = eager.ready();
-  ASSERT_EQ(ready.size(), 1u);
-  ready[0]->classified_points = 100;
-  eager.add_points(few, std::span(first).subspan(100));
-  EXPECT_TRUE(eager.ready().empty());  // grew, 101 < 125
-  EXPECT_EQ(eager.ready().size(), 1u);  // quiet with one unseen point
+  OneBlock block(50);
+  block.add(100);
+  EXPECT_EQ(block.classify_ready(), 1u);  // the first classification needs only min_points
+  block.add(30);                          // 130 >= 1.25 x 100, but 30 new points
+  EXPECT_EQ(block.classify_ready(), 0u);
+  EXPECT_EQ(block.classify_ready(), 0u);  // quiet, with 30 unseen points: still waiting
+  block.add(19);                          // 49 new
+  EXPECT_EQ(block.classify_ready(), 0u);
+  block.add(1);  // 50 new
+  EXPECT_EQ(block.classify_ready(), 1u);
+  // Large blocks: the fraction decides (25 % of 150 = 37.5 < 50; 25 % of 500 = 125 > 50).
+  block.add(350);
+  EXPECT_EQ(block.classify_ready(), 1u);  // 500
+  block.add(100);                         // 600 < 625
+  EXPECT_EQ(block.classify_ready(), 0u);
+  EXPECT_EQ(block.classify_ready(), 1u);  // quiet with 100 unseen points
 }
 
 }  // namespace
