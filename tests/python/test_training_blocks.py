@@ -83,7 +83,8 @@ def test_joined_files_hold_every_block_of_each_with_its_sensor(tmp_path):
         np.savez(path, points=rng.normal(size=(offsets[-1], 3)).astype(np.float32),
                  labels=rng.integers(0, 6, offsets[-1]).astype(np.uint8), offsets=offsets,
                  origins=rng.normal(size=(len(sizes), 2)), arena=np.full(len(sizes), seed, np.int64),
-                 block_size=np.float64(1.5), min_points=np.int64(100), sensor=np.str_(sensor))
+                 block_size=np.float64(1.5), min_points=np.int64(100), sensor=np.str_(sensor),
+                 map_cell=np.float64(0.025), snapshots=np.int64(4))
         return np.load(path)
 
     a = blocks_file(tmp_path / "a.npz", "depth", [120, 300], 1000)
@@ -91,6 +92,7 @@ def test_joined_files_hold_every_block_of_each_with_its_sensor(tmp_path):
     joined = join_blocks.join([tmp_path / "a.npz", tmp_path / "b.npz"])
     assert list(joined["block_sensor"]) == ["depth"] * 2 + ["lidar"] * 3
     assert list(joined["arena"]) == [1000] * 2 + [1001] * 3
+    assert float(joined["map_cell"]) == 0.025 and int(joined["snapshots"]) == 4
     for k, (src, block) in enumerate([(a, 0), (a, 1), (b, 0), (b, 1), (b, 2)]):
         lo, hi = joined["offsets"][k], joined["offsets"][k + 1]
         slo, shi = src["offsets"][block], src["offsets"][block + 1]

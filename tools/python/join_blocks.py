@@ -5,7 +5,8 @@
 #   /usr/bin/python3 tools/python/join_blocks.py depth.npz lidar.npz --out both.npz
 #
 # The files must share the block size; each block keeps its arena seed, and
-# the joined file records each block's sensor (the `sensor` of its file).
+# the joined file records each block's sensor (the `sensor` of its file) and,
+# when all files agree, how the blocks were cut (map cell, cuts).
 import argparse
 import os
 import sys
@@ -33,7 +34,14 @@ def join(paths):
         per_block = d["block_sensor"] if "block_sensor" in d else \
             np.full(len(d["arena"]), str(d["sensor"]) if "sensor" in d else "depth")
         sensor.append(per_block.astype(str))
+    # How the blocks were cut, when every file agrees (frames, or maps of one cell size and number of cuts).
+    cut = {}
+    for key in ("map_cell", "snapshots"):
+        values = {d[key].item() if key in d else 0 for d in parts}
+        if len(values) == 1:
+            cut[key] = np.asarray(values.pop())
     return {
+        **cut,
         "points": np.concatenate(points), "labels": np.concatenate(labels), "offsets": np.concatenate(offsets),
         "origins": np.concatenate(origins), "arena": np.concatenate(arena),
         "block_size": np.float64(sizes.pop()), "min_points": np.int64(min(int(d["min_points"]) for d in parts)),

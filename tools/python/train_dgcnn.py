@@ -268,6 +268,7 @@ def export(args):
             "val_accuracy": round(last["val_accuracy"], 4), "val_mean_iou_4": round(last["val_mean_iou_4"], 4),
             "val_iou": {c: None if v is None else round(v, 4) for c, v in last["val_iou"].items()},
             "train_seconds": round(sum(h["seconds"] for h in state["history"])),
+            "data": blocks_record(data),
             # Set when this run started from another's weights (--init-from).
             "fine_tuned_from": state.get("history_before"),
         }, separators=(",", ":")),
@@ -275,6 +276,21 @@ def export(args):
     tensors = {name: t for name, t in state_numpy(model).items() if not name.endswith("num_batches_tracked")}
     write_safetensors(args.out, tensors, metadata)
     print(f"wrote {args.out}: {metadata['sarmap.training']}")
+
+
+def blocks_record(data):
+    """What the training blocks were (training_blocks.py, join_blocks.py): their count, sensors and whether
+    they were cut from frames or from accumulated maps."""
+    record = {"blocks": int(len(data["arena"]))}
+    if "block_sensor" in data:
+        sensors, counts = np.unique(data["block_sensor"].astype(str), return_counts=True)
+        record["sensors"] = {str(s): int(c) for s, c in zip(sensors, counts)}
+    elif "sensor" in data:
+        record["sensors"] = {str(data["sensor"]): record["blocks"]}
+    if "map_cell" in data and float(data["map_cell"]) > 0:
+        record["map_cell"] = float(data["map_cell"])
+        record["snapshots"] = int(data["snapshots"])
+    return record
 
 
 def main(argv):
