@@ -39,39 +39,42 @@ constexpr std::size_t kScans = 6;  // spread evenly along the trajectory
 // recorded; the last case runs the shipped configuration as it is.
 constexpr double kNoOverlapStride = 1.5;
 
-// Recorded when the model was committed; margins absorb nothing but future
-// changes of sampling order, so they are small.
-constexpr double kRecordedMeanIou = 0.9572;
-constexpr double kRecordedInclinedIou = 0.8940;
-constexpr double kRecordedFlatIou = 0.9690;
+// Recorded when the model was committed (again on 2026-11-28 for the model
+// fine-tuned on map-level blocks of both sensors, which classifies single
+// scans less well than its predecessor: 0.9572 mean, 0.8940 inclined ramp
+// here); margins absorb nothing but future changes of sampling order, so
+// they are small.
+constexpr double kRecordedMeanIou = 0.9203;
+constexpr double kRecordedInclinedIou = 0.7517;
+constexpr double kRecordedFlatIou = 0.9643;
 // Arena 9005 with the steep-surface veto, and its gain in mean IoU over the
 // network alone on the same scans.
-constexpr double kRecordedVetoWallIou = 0.8162;
-constexpr double kRecordedVetoInclinedIou = 0.7713;
-constexpr double kRecordedVetoGain = 0.1042;  // 0.7566 -> 0.8608
+constexpr double kRecordedVetoWallIou = 0.6079;
+constexpr double kRecordedVetoInclinedIou = 0.8002;
+constexpr double kRecordedVetoGain = 0.1457;  // 0.6878 -> 0.8335
 // Arena 9003 (veto on) with the ramp side faces relabelled, and their gain
 // in inclined-ramp IoU over the same run without.
-constexpr double kRecordedSidesInclinedIou = 0.9199;
-constexpr double kRecordedSidesInclinedGain = 0.1236;  // 0.7963 -> 0.9199
+constexpr double kRecordedSidesInclinedIou = 0.9325;
+constexpr double kRecordedSidesInclinedGain = 0.1149;  // 0.8176 -> 0.9325
 // Arena 9005's first frames (the robot faces a long wall, only its lowest
 // band in view, which the network calls other) with the wall bands rule,
 // and its gain in wall IoU over the same frames without.
 const std::vector<std::size_t> kFirstFrames{0, 4, 8};
-constexpr double kRecordedBandsWallIou = 0.9457;
-constexpr double kRecordedBandsWallGain = 0.7147;  // 0.2310 -> 0.9457 (0.9461 before bands counted wall-labelled columns)
+constexpr double kRecordedBandsWallIou = 0.9328;
+constexpr double kRecordedBandsWallGain = 0.6213;  // 0.3115 -> 0.9328
 // The held-out arena's scans with every rule, and the gains of wall feet
 // over the same scans without it (small: a few floor points per scan).
-constexpr double kRecordedFeetTerrainIou = 0.9864;
-constexpr double kRecordedFeetWallIou = 0.9833;
-constexpr double kRecordedFeetTerrainGain = 0.0028;  // 0.9836 -> 0.9864
-constexpr double kRecordedFeetWallGain = 0.0030;     // 0.9803 -> 0.9833
+constexpr double kRecordedFeetTerrainIou = 0.9876;
+constexpr double kRecordedFeetWallIou = 0.9818;
+constexpr double kRecordedFeetTerrainGain = 0.0022;  // 0.9854 -> 0.9876
+constexpr double kRecordedFeetWallGain = 0.0024;     // 0.9794 -> 0.9818
 // The shipped configuration (the accumulated map classified, blocks
 // overlapping by a quarter, every rule on) on the held-out arena's scans;
-// classified one by one with the same settings they scored mean IoU 0.9631,
-// inclined ramp 0.8920, flat ramp 0.9883 (2026-11-26).
-constexpr double kRecordedDefaultMeanIou = 0.9695;
-constexpr double kRecordedDefaultInclinedIou = 0.9240;
-constexpr double kRecordedDefaultFlatIou = 0.9779;
+// the model before 2026-11-28 scored mean IoU 0.9695, inclined ramp 0.9240,
+// flat ramp 0.9779 here.
+constexpr double kRecordedDefaultMeanIou = 0.9653;
+constexpr double kRecordedDefaultInclinedIou = 0.9021;
+constexpr double kRecordedDefaultFlatIou = 0.9821;
 constexpr double kMargin = 0.02;
 
 // The given frames of a held-out arena, classified in order by one classifier.
@@ -210,16 +213,17 @@ TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
 // the rules as `semantic_points.ply` does, scored against the simulator's
 // labels. Recorded with this code on 2026-11-28 (machine A), again when
 // blocks classified before waited for 512 new points (depth 0.9596 -> 0.9588,
-// LiDAR 0.9019 -> 0.8984 mean IoU); the whole test split's figures are in
-// PERF.md.
+// LiDAR 0.9019 -> 0.8984 mean IoU) and for the model fine-tuned on map-level
+// blocks of both sensors (depth 0.9637, LiDAR 0.9210); the whole test
+// split's figures are in PERF.md.
 constexpr std::uint64_t kTestArena = 9101;
 constexpr std::size_t kTestEvery = 8;
-constexpr double kRecordedTestDepthMeanIou = 0.9588;
-constexpr double kRecordedTestDepthInclinedIou = 0.9654;
-constexpr double kRecordedTestDepthFlatIou = 0.8979;
-constexpr double kRecordedTestLidarMeanIou = 0.8984;
-constexpr double kRecordedTestLidarInclinedIou = 0.9618;
-constexpr double kRecordedTestLidarFlatIou = 0.6828;
+constexpr double kRecordedTestDepthMeanIou = 0.9637;
+constexpr double kRecordedTestDepthInclinedIou = 0.9470;
+constexpr double kRecordedTestDepthFlatIou = 0.9319;
+constexpr double kRecordedTestLidarMeanIou = 0.9210;
+constexpr double kRecordedTestLidarInclinedIou = 0.9531;
+constexpr double kRecordedTestLidarFlatIou = 0.7773;
 
 eval::ConfusionMatrix map_test_arena(SensorType sensor) {
   sim::RandomSensor seen_by;
