@@ -45,12 +45,17 @@ void MapBlockSchedule::add_points(const PointBuffer& map_points, std::span<const
   }
 }
 
+bool MapBlockSchedule::has_enough_unseen(const MapBlock& block) const {
+  const std::size_t unseen = block.points.size() - block.classified_points;
+  return unseen > 0 && (block.classified_points == 0 || unseen >= settings_.min_new_points);
+}
+
 bool MapBlockSchedule::is_ready(const MapBlock& block) const {
   const std::size_t n = block.points.size();
   if (n < settings_.min_points) return false;
   if (block.classified_points == 0) return true;
   return static_cast<double>(n) >= (1.0 + settings_.growth) * static_cast<double>(block.classified_points) &&
-         n > block.classified_points && n - block.classified_points >= settings_.min_new_points;
+         has_enough_unseen(block);
 }
 
 std::vector<MapBlock*> MapBlockSchedule::ready() {
@@ -66,9 +71,8 @@ std::vector<MapBlock*> MapBlockSchedule::ready() {
   for (const auto& key : keys) {
     MapBlock& block = blocks_.at(key);
     const bool grew = std::binary_search(touched_.begin(), touched_.end(), key);
-    const std::size_t unseen = block.points.size() - block.classified_points;
     const bool quiet = !grew && settings_.classify_when_quiet && block.points.size() >= settings_.min_points &&
-                       unseen > 0 && (block.classified_points == 0 || unseen >= settings_.min_new_points);
+                       has_enough_unseen(block);
     if ((grew && is_ready(block)) || quiet) {
       result.push_back(&block);
     } else if (block.points.size() > block.classified_points && block.points.size() >= settings_.min_points) {

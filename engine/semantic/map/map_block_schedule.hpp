@@ -78,6 +78,9 @@ class MapBlockSchedule {
   bool consistent_with(std::size_t points, std::size_t classes) const;
 
  private:
+  // Holds points no classification has seen: any, if it was never
+  // classified; else at least min_new_points (and at least one).
+  bool has_enough_unseen(const MapBlock& block) const;
   bool is_ready(const MapBlock& block) const;
 
   MapBlockSettings settings_;
