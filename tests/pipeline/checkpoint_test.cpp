@@ -158,6 +158,7 @@ TEST_F(CheckpointRefusal, ADamagedOrTruncatedFile) {
 // Past the hash (a stream handed to load_state directly), every truncation
 // is a clear error, never a crash or a runaway allocation.
 TEST_F(CheckpointRefusal, EveryTruncatedStateIsAnError) {
+  NOT_UNDER_TSAN();
   Mapper mapper(config_for("labels"), sim::sensor_info(default_arena().sensor));
   integrate_frames(mapper, 0, 16, 8);
   StateWriter out;

@@ -165,6 +165,7 @@ TEST(SegmentMapState, SaveLoadSaveGivesTheSameBytes) {
 }
 
 TEST(SegmentMapState, TruncatedStreamIsAnErrorAndChangesNothing) {
+  NOT_UNDER_TSAN();
   // Sparse points keep the stream short enough to cut it everywhere.
   const std::vector<Step> steps = session(0.1);
   SegmentMap full;
@@ -259,6 +260,7 @@ TEST(SegmentMapState, CorruptCountsAndIdsAreErrorsNamingTheProblem) {
 }
 
 TEST(SegmentMapState, FlippedBytesNeverCrash) {
+  NOT_UNDER_TSAN();
   // Sparse points keep the stream short enough to flip every byte that
   // holds a segment, a merge or a pending list.
   const std::vector<Step> steps = session(0.1);
