@@ -1,8 +1,10 @@
 """tools/python/training_blocks.py's map-level blocks: the accumulated map
 keeps the first point of each cube as a plain loop does, the map's cuts keep
-only cells that grew, and a LiDAR arena gives map-level blocks end to end."""
+only cells that grew, a LiDAR arena gives map-level blocks end to end, and
+--vary-mount draws each arena's mounting from its seed within the ranges."""
 
 import os
+import shlex
 import sys
 
 import numpy as np
@@ -66,6 +68,7 @@ def test_a_lidar_arena_gives_map_level_blocks(tmp_path):
                           "--snapshots", "2", "--block-size", "1.5", "--min-points", "100", "--out", str(out)])
     data = np.load(out)
     assert str(data["sensor"]) == "lidar" and str(data["sensor_args"]) == "--rings 8 --samples 720"
+    assert set(data["block_mount"].astype(str)) == {"--rings 8 --samples 720"}
     assert float(data["map_cell"]) == 0.025 and int(data["snapshots"]) == 2
     blocks = len(data["arena"])
     assert blocks > 0 and len(data["offsets"]) == blocks + 1
@@ -104,3 +107,42 @@ def test_joined_files_hold_every_block_of_each_with_its_sensor(tmp_path):
         assert False, "files of different block sizes were joined"
     except SystemExit as error:
         assert "block sizes differ" in str(error)
+
+
+def test_mountings_are_drawn_from_the_seed_within_their_ranges():
+    seen = {"depth": set(), "lidar": set()}
+    for sensor in ("depth", "lidar"):
+        for seed in range(1000, 1060):
+            args = training_blocks.mount_args(sensor, seed)
+            assert args == training_blocks.mount_args(sensor, seed)  # the seed alone decides
+            options = dict(zip(args[::2], args[1::2]))
+            height = float(options["--sensor-height"])
+            if sensor == "lidar":
+                assert (int(options["--rings"]), options["--vertical-fov"]) in training_blocks.LIDAR_RINGS
+                assert int(options["--max-range"]) in training_blocks.LIDAR_RANGES
+                assert 0.3 <= height <= 1.2
+            else:
+                assert (int(options["--width"]), int(options["--height"])) in training_blocks.CAMERA_SIZES
+                assert 0.3 <= height <= 1.0 and -30.0 <= float(options["--pitch"]) <= -5.0
+            seen[sensor].add(tuple(args))
+    # Sixty arenas give many mountings, every ring count and camera size among them.
+    assert len(seen["lidar"]) > 50 and len(seen["depth"]) > 50
+    assert {a[1] for a in seen["lidar"]} == {str(r) for r, _ in training_blocks.LIDAR_RINGS}
+    assert {a[1] for a in seen["depth"]} == {str(w) for w, _ in training_blocks.CAMERA_SIZES}
+
+
+def test_varied_mountings_simulate_and_are_recorded_per_block(tmp_path):
+    # Seeds whose draws differ; a few frames each, the camera's and the LiDAR's.
+    for sensor, extra in (("lidar", ["--sensor-args", "--samples 360"]), ("depth", [])):
+        out = tmp_path / f"{sensor}.npz"
+        training_blocks.main(["--sarmap", cli_path(), "--seeds", "1000-1001", "--sensor", sensor, *extra,
+                              "--vary-mount", "--frames", "4", "--map-cell", "0.025", "--snapshots", "1",
+                              "--block-size", "1.5", "--min-points", "50", "--out", str(out)])
+        data = np.load(out)
+        mounts = data["block_mount"].astype(str)
+        assert len(mounts) == len(data["arena"]) > 0
+        after = shlex.split(extra[1]) if extra else []  # --sensor-args come after the mounting
+        for seed in (1000, 1001):
+            expected = shlex.join(training_blocks.mount_args(sensor, seed) + after)
+            assert set(mounts[data["arena"] == seed]) <= {expected}
+        assert len(set(mounts)) == len(set(data["arena"].tolist()))

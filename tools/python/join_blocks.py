@@ -5,7 +5,8 @@
 #   /usr/bin/python3 tools/python/join_blocks.py depth.npz lidar.npz --out both.npz
 #
 # The files must share the block size; each block keeps its arena seed, and
-# the joined file records each block's sensor (the `sensor` of its file) and,
+# the joined file records each block's sensor (the `sensor` of its file) and
+# mounting (`block_mount`, or the file's --sensor-args) and,
 # when all files agree, how the blocks were cut (map cell, cuts).
 import argparse
 import os
@@ -19,7 +20,7 @@ def join(paths):
     sizes = {float(d["block_size"]) for d in parts}
     if len(sizes) != 1:
         raise SystemExit(f"join_blocks.py: the files' block sizes differ: {sorted(sizes)}")
-    points, labels, offsets, origins, arena, sensor = [], [], [np.zeros(1, np.int64)], [], [], []
+    points, labels, offsets, origins, arena, sensor, mount = [], [], [np.zeros(1, np.int64)], [], [], [], []
     base = 0
     for path, d in zip(paths, parts):
         for key in ("points", "labels", "offsets", "origins", "arena"):
@@ -34,6 +35,9 @@ def join(paths):
         per_block = d["block_sensor"] if "block_sensor" in d else \
             np.full(len(d["arena"]), str(d["sensor"]) if "sensor" in d else "depth")
         sensor.append(per_block.astype(str))
+        # Each block's mounting (simulate options); files from before --vary-mount name their one --sensor-args.
+        mount.append(d["block_mount"].astype(str) if "block_mount" in d else
+                     np.full(len(d["arena"]), str(d["sensor_args"]) if "sensor_args" in d else ""))
     # How the blocks were cut, when every file agrees (frames, or maps of one cell size and number of cuts).
     cut = {}
     for key in ("map_cell", "snapshots"):
@@ -45,7 +49,7 @@ def join(paths):
         "points": np.concatenate(points), "labels": np.concatenate(labels), "offsets": np.concatenate(offsets),
         "origins": np.concatenate(origins), "arena": np.concatenate(arena),
         "block_size": np.float64(sizes.pop()), "min_points": np.int64(min(int(d["min_points"]) for d in parts)),
-        "block_sensor": np.concatenate(sensor), "joined_from": np.array([os.path.abspath(p) for p in paths]),
+        "block_sensor": np.concatenate(sensor), "block_mount": np.concatenate(mount), "joined_from": np.array([os.path.abspath(p) for p in paths]),
     }
 
 

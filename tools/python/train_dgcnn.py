@@ -279,8 +279,8 @@ def export(args):
 
 
 def blocks_record(data):
-    """What the training blocks were (training_blocks.py, join_blocks.py): their count, sensors and whether
-    they were cut from frames or from accumulated maps."""
+    """What the training blocks were (training_blocks.py, join_blocks.py): their count, sensors, how many
+    sensor mountings and whether they were cut from frames or from accumulated maps."""
     record = {"blocks": int(len(data["arena"]))}
     if "block_sensor" in data:
         sensors, counts = np.unique(data["block_sensor"].astype(str), return_counts=True)
@@ -290,6 +290,9 @@ def blocks_record(data):
     if "map_cell" in data and float(data["map_cell"]) > 0:
         record["map_cell"] = float(data["map_cell"])
         record["snapshots"] = int(data["snapshots"])
+    if "block_mount" in data:
+        # How many sensor mountings (sarmap simulate options) the blocks were seen with.
+        record["mountings"] = int(len(np.unique(data["block_mount"].astype(str))))
     return record
 
 

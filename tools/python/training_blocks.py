@@ -15,6 +15,11 @@
 # the stages it sees them. --sensor lidar (with --sensor-args for `sarmap
 # simulate`) gives LiDAR arenas.
 #
+# --vary-mount draws each arena's sensor mounting from its seed (mount_args
+# below: the camera's height, pitch and resolution; the LiDAR's rings,
+# range and height), so one file holds the sensor variety the shipped model
+# must cope with; each block records the mounting it was seen with.
+#
 # Features are NOT computed here: train_dgcnn.py draws the block's points
 # afresh every epoch and computes features with dgcnn_reference.block_features,
 # the one Python definition the C++ engine is tested against.
@@ -108,13 +113,37 @@ def arena_cells(folder, every, block_size, min_points, map_cell, snapshots):
             yield origin, xyz[idx], lab[idx]
 
 
+# The mountings --vary-mount draws from: robots' depth cameras sit 0.3-1.0 m
+# up, pitched 5-30 degrees down, at 320 x 240 or 640 x 480; their LiDARs
+# have 16, 32 or 64 rings (with those rings' usual vertical fields of view),
+# 12-30 m of range and sit 0.3-1.2 m up. Validation found the height the
+# one that matters (PERF.md, "sensors it was not trained with").
+LIDAR_RINGS = ((16, "-15,15"), (32, "-16,15"), (64, "-25,15"))
+LIDAR_RANGES = (12, 20, 30)
+CAMERA_SIZES = ((320, 240), (640, 480))
+
+
+def mount_args(sensor, seed):
+    """sarmap simulate options for the sensor mounting of arena `seed`, drawn from the seed alone."""
+    rng = np.random.default_rng([seed, 0x6d6f756e74])  # "mount": apart from any other use of the seed
+    if sensor == "lidar":
+        rings, fov = LIDAR_RINGS[rng.integers(len(LIDAR_RINGS))]
+        return ["--rings", str(rings), "--vertical-fov", fov,
+                "--max-range", str(LIDAR_RANGES[rng.integers(len(LIDAR_RANGES))]),
+                "--sensor-height", f"{rng.uniform(0.3, 1.2):.2f}"]
+    width, height = CAMERA_SIZES[rng.integers(len(CAMERA_SIZES))]
+    return ["--width", str(width), "--height", str(height), "--sensor-height", f"{rng.uniform(0.3, 1.0):.2f}",
+            "--pitch", f"{rng.uniform(-30.0, -5.0):.1f}"]
+
+
 def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng, sensor="depth", sensor_args=(),
-            frames=0, map_cell=0.0, snapshots=4):
-    points, labels, offsets, origins, arena = [], [], [0], [], []
+            frames=0, map_cell=0.0, snapshots=4, vary_mount=False):
+    points, labels, offsets, origins, arena, mounts = [], [], [0], [], [], []
     for seed in seeds:
+        mount = mount_args(sensor, seed) if vary_mount else []
         with tempfile.TemporaryDirectory(prefix=f"sarmap-sim-{seed}-") as folder:
             command = [sarmap_exe, "simulate", "--random", str(seed), "--seed", str(seed), "--out", folder, "--quiet",
-                       "--sensor", sensor, *sensor_args]
+                       "--sensor", sensor, *mount, *sensor_args]
             if frames > 0:
                 command += ["--frames", str(frames)]
             subprocess.run(command, check=True)
@@ -128,8 +157,9 @@ def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng, 
                 offsets.append(offsets[-1] + len(xyz))
                 origins.append(origin)
                 arena.append(seed)
+                mounts.append(shlex.join(mount + list(sensor_args)))
                 blocks += 1
-        print(f"arena {seed}: {blocks} blocks", flush=True)
+        print(f"arena {seed}: {blocks} blocks" + (f" ({shlex.join(mount)})" if mount else ""), flush=True)
     if not points:
         raise SystemExit("training_blocks.py: no block reached --min-points in any arena")
     return {
@@ -139,6 +169,7 @@ def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng, 
         "block_size": np.float64(block_size), "min_points": np.int64(min_points),
         "sensor": np.str_(sensor), "sensor_args": np.str_(shlex.join(sensor_args)),
         "map_cell": np.float64(map_cell), "snapshots": np.int64(snapshots if map_cell > 0 else 0),
+        "block_mount": np.array(mounts, dtype=str),
     }
 
 
@@ -161,6 +192,9 @@ def main(argv):
     parser.add_argument("--sensor", choices=["depth", "lidar"], default="depth", help="sarmap simulate's sensor")
     parser.add_argument("--sensor-args", default="", help='more options for sarmap simulate, e.g. "--rings 32"')
     parser.add_argument("--frames", type=int, default=0, help="simulate only the first N frames (0: all)")
+    parser.add_argument("--vary-mount", action="store_true",
+                        help="draw each arena's sensor mounting from its seed (height, pitch and resolution of a "
+                             "camera; rings, range and height of a LiDAR); --sensor-args still apply after it")
     parser.add_argument("--map-cell", type=float, default=0.0,
                         help="cut the accumulated map (one point per cube of this size, e.g. 0.025) instead of "
                              "each frame")
@@ -175,7 +209,7 @@ def main(argv):
     rng = np.random.default_rng(12345)
     data = collect(args.sarmap, parse_seeds(args.seeds), args.every, args.block_size, args.min_points,
                    args.keep_points, rng, args.sensor, shlex.split(args.sensor_args), args.frames, args.map_cell,
-                   args.snapshots)
+                   args.snapshots, args.vary_mount)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     np.savez(args.out, **data)
     counts = np.bincount(data["labels"], minlength=6)
