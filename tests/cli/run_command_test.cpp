@@ -293,6 +293,7 @@ TEST_F(RunCommand, GeometricBaselineNeedsNoModel) {
 // The DGCNN with a given model; --min-block-points decides whether the tiny
 // frames' blocks (3 and 2 points) are classified or left unknown.
 TEST_F(RunCommand, DgcnnClassifiesBlocksWithEnoughPoints) {
+  RELEASE_ONLY();  // three DGCNN runs: over half a minute under ASan, for option plumbing
   const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
   const auto run = [&](const std::string& extra, const fs::path& out) {
     return run_cli("run " + quoted(input_.string()) + " --out " + quoted(out.string()) + " --voxel 0.1 --model " +

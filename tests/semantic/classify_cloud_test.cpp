@@ -23,6 +23,7 @@
 #include "engine/semantic/geometric/geometric_classifier.hpp"
 #include "engine/semantic/rules/rule_chain.hpp"
 #include "tests/file_bytes.hpp"
+#include "tests/release_only.hpp"
 #include "tests/semantic/dgcnn_test_data.hpp"
 
 namespace sarmap {
@@ -106,6 +107,7 @@ TEST(ClassifyCloud, WritesLabelsScoresAndGroundTruth) {
 // through the chain in the test; `--disable-rule` names them, and an
 // unknown name is a usage error listing the rules.
 TEST(ClassifyCloud, RunsTheRuleChainAfterTheNetworkAndDisablesRulesByName) {
+  RELEASE_ONLY();  // three DGCNN runs of the CLI: almost a minute under ASan, for the rule options
   const fs::path dir = fs::temp_directory_path() / ("sarmap_classify_rules_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   PointBuffer cloud;  // a floor, a wall along it and a 20-degree ramp on it, on a 3 cm grid
