@@ -15,6 +15,14 @@ import sys
 import numpy as np
 
 
+def per_block(data, key, file_key, default):
+    """A per-block record of a training-block file: `key` when it has one, else its one `file_key` (or
+    `default`) repeated for each block, as files written before the per-block record hold it."""
+    if key in data:
+        return data[key].astype(str)
+    return np.full(len(data["arena"]), str(data[file_key]) if file_key in data else default).astype(str)
+
+
 def join(paths):
     parts = [np.load(p) for p in paths]
     sizes = {float(d["block_size"]) for d in parts}
@@ -32,12 +40,8 @@ def join(paths):
         base += int(d["offsets"][-1])
         origins.append(d["origins"])
         arena.append(d["arena"])
-        per_block = d["block_sensor"] if "block_sensor" in d else \
-            np.full(len(d["arena"]), str(d["sensor"]) if "sensor" in d else "depth")
-        sensor.append(per_block.astype(str))
-        # Each block's mounting (simulate options); files from before --vary-mount name their one --sensor-args.
-        mount.append(d["block_mount"].astype(str) if "block_mount" in d else
-                     np.full(len(d["arena"]), str(d["sensor_args"]) if "sensor_args" in d else ""))
+        sensor.append(per_block(d, "block_sensor", "sensor", "depth"))
+        mount.append(per_block(d, "block_mount", "sensor_args", ""))  # simulate options of its mounting
     # How the blocks were cut, when every file agrees (frames, or maps of one cell size and number of cuts).
     cut = {}
     for key in ("map_cell", "snapshots"):
@@ -49,7 +53,8 @@ def join(paths):
         "points": np.concatenate(points), "labels": np.concatenate(labels), "offsets": np.concatenate(offsets),
         "origins": np.concatenate(origins), "arena": np.concatenate(arena),
         "block_size": np.float64(sizes.pop()), "min_points": np.int64(min(int(d["min_points"]) for d in parts)),
-        "block_sensor": np.concatenate(sensor), "block_mount": np.concatenate(mount), "joined_from": np.array([os.path.abspath(p) for p in paths]),
+        "block_sensor": np.concatenate(sensor), "block_mount": np.concatenate(mount),
+        "joined_from": np.array([os.path.abspath(p) for p in paths]),
     }
 
 

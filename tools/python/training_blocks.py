@@ -141,6 +141,7 @@ def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng, 
     points, labels, offsets, origins, arena, mounts = [], [], [0], [], [], []
     for seed in seeds:
         mount = mount_args(sensor, seed) if vary_mount else []
+        mount_text = shlex.join(mount + list(sensor_args))  # what each of the arena's blocks records
         with tempfile.TemporaryDirectory(prefix=f"sarmap-sim-{seed}-") as folder:
             command = [sarmap_exe, "simulate", "--random", str(seed), "--seed", str(seed), "--out", folder, "--quiet",
                        "--sensor", sensor, *mount, *sensor_args]
@@ -157,7 +158,7 @@ def collect(sarmap_exe, seeds, every, block_size, min_points, keep_points, rng, 
                 offsets.append(offsets[-1] + len(xyz))
                 origins.append(origin)
                 arena.append(seed)
-                mounts.append(shlex.join(mount + list(sensor_args)))
+                mounts.append(mount_text)
                 blocks += 1
         print(f"arena {seed}: {blocks} blocks" + (f" ({shlex.join(mount)})" if mount else ""), flush=True)
     if not points:
