@@ -1,13 +1,52 @@
 #include "engine/metric/map_summary.hpp"
 
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+
 namespace sarmap::metric {
+
+namespace {
+
+// A block's value when it is uniform without evidence, else nullopt.
+std::optional<std::int16_t> uniform_value(const MetricMap::Blocks::Block& block) {
+  if (!block.uniform_occupancy() || block.row_count() != 0) return std::nullopt;
+  return block.uniform_log_odds();
+}
+
+// Uniform blocks in complete aligned 2 x 2 x 2 groups of one value.
+std::size_t blocks_in_uniform_groups(const MetricMap& map) {
+  struct Group {
+    int blocks = 0;
+    std::int16_t value = 0;
+    bool uniform = true;
+  };
+  std::unordered_map<std::uint64_t, Group> groups;
+  map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
+    // Arithmetic shifts: the group of block -1 is -1, of blocks -2 and -1 alike.
+    Group& g = groups[pack(BlockKey{bk.x >> 1, bk.y >> 1, bk.z >> 1})];
+    const std::optional<std::int16_t> value = uniform_value(block);
+    if (!value || (g.blocks > 0 && *value != g.value)) g.uniform = false;
+    if (value) g.value = *value;
+    ++g.blocks;
+  });
+  std::size_t blocks = 0;
+  for (const auto& [key, g] : groups) {
+    if (g.uniform && g.blocks == 8) blocks += 8;
+  }
+  return blocks;
+}
+
+}  // namespace
 
 MapSummary summarize_map(const MetricMap& map) {
   MapSummary s;
   s.counts.blocks = map.blocks().block_count();
+  s.blocks_in_uniform_groups = blocks_in_uniform_groups(map);
   const OccupancyModel& occ = map.occupancy();
   const double half = 0.5 * map.resolution();
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
+    if (uniform_value(block)) ++s.uniform_blocks;
     for (int l = 0; l < kBlockVoxels; ++l) {
       const SemanticVoxel v = block.voxel(l);
       const VoxelState state = occ.state(v.log_odds);

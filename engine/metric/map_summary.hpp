@@ -1,6 +1,8 @@
 // What a metric map holds, counted in one pass over its blocks: the figures
 // `sarmap info map.sarmap` reports (voxels by state, occupied voxels by
-// class, the extent of what is known and of what is occupied).
+// class, the extent of what is known and of what is occupied, and how many
+// blocks are uniform: what a coarser level of whole uniform blocks, as
+// OctoMap prunes its tree, could store as fewer records).
 #pragma once
 
 #include <array>
@@ -20,6 +22,12 @@ struct MapSummary {
   // Outer faces of the voxels (not their centres), metres; empty when none.
   Bounds known_bounds;
   Bounds occupied_bounds;
+  // Blocks whose 512 voxels share one log-odds and hold no class evidence
+  // (stored as a record without a slab: semantic_block.hpp).
+  std::size_t uniform_blocks = 0;
+  // Uniform blocks that fill a whole aligned 2 x 2 x 2 group of blocks with
+  // one value: the records a coarser level could replace by one per group.
+  std::size_t blocks_in_uniform_groups = 0;
 };
 
 // Costs one pass over every voxel of every block.

@@ -54,6 +54,7 @@ struct Expected {
   metric::MapCounts counts;
   std::array<std::size_t, kClassCount> occupied_by_class{};
   Bounds occupied;  // voxel faces
+  std::size_t uniform_blocks = 0;  // every voxel at one log-odds, no class evidence
 };
 
 Expected expected_of(const metric::MetricMap& map) {
@@ -61,6 +62,13 @@ Expected expected_of(const metric::MetricMap& map) {
   e.counts = map.counts();
   const double half = 0.5 * map.resolution();
   map.blocks().for_each_block([&](const metric::BlockKey& bk, const metric::MetricMap::Blocks::Block&) {
+    const metric::SemanticVoxel first = *map.blocks().voxel(metric::voxel_of(bk, 0));
+    bool uniform = true;
+    for (int l = 0; l < metric::kBlockVoxels; ++l) {
+      const metric::SemanticVoxel v = *map.blocks().voxel(metric::voxel_of(bk, l));
+      uniform = uniform && v.log_odds == first.log_odds && v.evidence == metric::ClassEvidence{};
+    }
+    e.uniform_blocks += uniform ? 1 : 0;
     for (int l = 0; l < metric::kBlockVoxels; ++l) {
       const metric::VoxelKey k = metric::voxel_of(bk, l);
       if (map.state(k) != metric::VoxelState::Occupied) continue;
@@ -80,7 +88,12 @@ void write_bytes(const std::filesystem::path& p, const std::string& bytes) {
 
 TEST(CliMapInfo, JsonFiguresMatchTheMapTheFileCameFrom) {
   test::ScratchFolder dir;
-  const metric::MetricMap map = room_map();
+  metric::MetricMap map = room_map();
+  // A whole 2 x 2 x 2 group of all-free blocks beside the room (three
+  // frames leave no block of the room itself uniform).
+  metric::DenseVoxels free_block;
+  for (metric::SemanticVoxel& v : free_block) v = {map.occupancy().min(), {}};
+  for (int i = 0; i < 8; ++i) map.blocks().assign({20 + (i & 1), 20 + ((i >> 1) & 1), i >> 2}, free_block);
   metric::save_map(map, dir / "map.sarmap");
   const Expected want = expected_of(map);
   ASSERT_GT(want.counts.occupied, 0u);
@@ -95,6 +108,10 @@ TEST(CliMapInfo, JsonFiguresMatchTheMapTheFileCameFrom) {
   EXPECT_DOUBLE_EQ(j.at("resolution").get<double>(), 0.1);
   EXPECT_EQ(j.at("class_fusion"), "bayesian");
   EXPECT_EQ(j.at("blocks").get<std::size_t>(), want.counts.blocks);
+  ASSERT_GE(want.uniform_blocks, 8u);
+  EXPECT_EQ(j.at("uniform_blocks").get<std::size_t>(), want.uniform_blocks);
+  EXPECT_GE(j.at("blocks_in_uniform_groups").get<std::size_t>(), 8u);
+  EXPECT_LE(j.at("blocks_in_uniform_groups").get<std::size_t>(), want.uniform_blocks);
   EXPECT_EQ(j.at("voxels").at("known").get<std::size_t>(), want.counts.known);
   EXPECT_EQ(j.at("voxels").at("free").get<std::size_t>(), want.counts.free);
   EXPECT_EQ(j.at("voxels").at("occupied").get<std::size_t>(), want.counts.occupied);

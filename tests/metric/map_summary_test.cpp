@@ -1,5 +1,6 @@
 // summarize_map: the counts agree with MetricMap::counts(), occupied voxels
-// are counted by their dominant class, and the bounds are the voxels' faces.
+// are counted by their dominant class, the bounds are the voxels' faces, and
+// uniform blocks and whole uniform 2 x 2 x 2 groups are counted as stored.
 #include "engine/metric/map_summary.hpp"
 
 #include <gtest/gtest.h>
@@ -55,11 +56,50 @@ TEST(MapSummary, AgreesWithTheMapsOwnCountsAfterIntegration) {
   EXPECT_TRUE(s.known_bounds.contains(s.occupied_bounds.max));
 }
 
+// Every voxel of a block at one value.
+DenseVoxels all_at(std::int16_t log_odds) {
+  DenseVoxels voxels;
+  for (SemanticVoxel& v : voxels) v = {log_odds, {}};
+  return voxels;
+}
+
+TEST(MapSummary, CountsUniformBlocksAndWholeGroupsOfOneValue) {
+  MetricMap map(settings_at_resolution(0.1));
+  const std::int16_t free = map.occupancy().min();
+  const auto group = [&](int x0, int y0, int z0, auto&& voxels_of) {
+    for (int i = 0; i < 8; ++i) map.blocks().assign({x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + (i >> 2)}, voxels_of(i));
+  };
+  // A whole group all free at one value, at negative keys (groups of -2..-1).
+  group(-2, -2, -2, [&](int) { return all_at(free); });
+  // A whole group of uniform blocks, one at another free value.
+  group(2, 0, 0, [&](int i) { return all_at(i == 5 ? static_cast<std::int16_t>(free + 1) : free); });
+  // A whole group whose one block holds class evidence in one voxel.
+  group(0, 4, 0, [&](int i) {
+    DenseVoxels v = all_at(free);
+    if (i == 3) v[17].evidence[static_cast<std::size_t>(ClassId::Wall)] = 10;
+    return v;
+  });
+  // Seven blocks of a group, and a block still all unknown.
+  for (int i = 0; i < 7; ++i) map.blocks().assign({4 + (i & 1), (i >> 1) & 1, i >> 2}, all_at(free));
+  map.blocks().find_or_create({10, 10, 10});
+  // A block with two values is not uniform.
+  DenseVoxels mixed = all_at(free);
+  mixed[0].log_odds = map.occupancy().max();
+  map.blocks().assign({12, 0, 0}, mixed);
+
+  const MapSummary s = summarize_map(map);
+  EXPECT_EQ(s.counts.blocks, 33u);
+  EXPECT_EQ(s.uniform_blocks, 8u + 8u + 7u + 7u + 1u);
+  EXPECT_EQ(s.blocks_in_uniform_groups, 8u);
+}
+
 TEST(MapSummary, AnEmptyMapHasEmptyBounds) {
   const MapSummary s = summarize_map(MetricMap(settings_at_resolution(0.05)));
   EXPECT_EQ(s.counts.known, 0u);
   EXPECT_TRUE(s.known_bounds.empty());
   EXPECT_TRUE(s.occupied_bounds.empty());
+  EXPECT_EQ(s.uniform_blocks, 0u);
+  EXPECT_EQ(s.blocks_in_uniform_groups, 0u);
 }
 
 }  // namespace

@@ -95,6 +95,8 @@ void map_info(const InfoArgs& a) {
     j["resolution"] = map.resolution();
     j["class_fusion"] = fusion;
     j["blocks"] = s.counts.blocks;
+    j["uniform_blocks"] = s.uniform_blocks;
+    j["blocks_in_uniform_groups"] = s.blocks_in_uniform_groups;
     j["voxels"] = Json{{"known", s.counts.known}, {"free", s.counts.free}, {"occupied", s.counts.occupied}};
     j["occupied_classes"] = classes_json(s.occupied_by_class);
     j["bounds"] = Json{{"known", bounds_json(s.known_bounds)}, {"occupied", bounds_json(s.occupied_bounds)}};
@@ -105,7 +107,9 @@ void map_info(const InfoArgs& a) {
   std::printf("format: sarmap metric map (version %u)\n", file.version);
   std::printf("resolution: %g m\n", map.resolution());
   std::printf("class fusion: %s\n", std::string(fusion).c_str());
-  std::printf("blocks: %zu (8 x 8 x 8 voxels each)\n", s.counts.blocks);
+  std::printf("blocks: %zu (8 x 8 x 8 voxels each), %zu uniform (one value, no class evidence), %zu of them in whole "
+              "2 x 2 x 2 groups of one value\n",
+              s.counts.blocks, s.uniform_blocks, s.blocks_in_uniform_groups);
   std::printf("voxels: %zu known: %zu free, %zu occupied\n", s.counts.known, s.counts.free, s.counts.occupied);
   std::printf("occupied ");
   print_classes(s.occupied_by_class);
