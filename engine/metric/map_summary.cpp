@@ -14,8 +14,9 @@ std::optional<std::int16_t> uniform_value(const MetricMap::Blocks::Block& block)
   return block.uniform_log_odds();
 }
 
-// Uniform blocks in complete aligned 2 x 2 x 2 groups of one value.
-std::size_t blocks_in_uniform_groups(const MetricMap& map) {
+// The uniform blocks, and those of them in complete aligned 2 x 2 x 2
+// groups of one value: a pass over the blocks, not their voxels.
+void count_uniform_blocks(const MetricMap& map, MapSummary& s) {
   struct Group {
     int blocks = 0;
     std::int16_t value = 0;
@@ -26,15 +27,14 @@ std::size_t blocks_in_uniform_groups(const MetricMap& map) {
     // Arithmetic shifts: the group of block -1 is -1, of blocks -2 and -1 alike.
     Group& g = groups[pack(BlockKey{bk.x >> 1, bk.y >> 1, bk.z >> 1})];
     const std::optional<std::int16_t> value = uniform_value(block);
+    if (value) ++s.uniform_blocks;
     if (!value || (g.blocks > 0 && *value != g.value)) g.uniform = false;
     if (value) g.value = *value;
     ++g.blocks;
   });
-  std::size_t blocks = 0;
   for (const auto& [key, g] : groups) {
-    if (g.uniform && g.blocks == 8) blocks += 8;
+    if (g.uniform && g.blocks == 8) s.blocks_in_uniform_groups += 8;
   }
-  return blocks;
 }
 
 }  // namespace
@@ -42,11 +42,10 @@ std::size_t blocks_in_uniform_groups(const MetricMap& map) {
 MapSummary summarize_map(const MetricMap& map) {
   MapSummary s;
   s.counts.blocks = map.blocks().block_count();
-  s.blocks_in_uniform_groups = blocks_in_uniform_groups(map);
+  count_uniform_blocks(map, s);
   const OccupancyModel& occ = map.occupancy();
   const double half = 0.5 * map.resolution();
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
-    if (uniform_value(block)) ++s.uniform_blocks;
     for (int l = 0; l < kBlockVoxels; ++l) {
       const SemanticVoxel v = block.voxel(l);
       const VoxelState state = occ.state(v.log_odds);

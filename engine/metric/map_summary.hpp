@@ -1,4 +1,4 @@
-// What a metric map holds, counted in one pass over its blocks: the figures
+// What a metric map holds, counted from its blocks: the figures
 // `sarmap info map.sarmap` reports (voxels by state, occupied voxels by
 // class, the extent of what is known and of what is occupied, and how many
 // blocks are uniform: what a coarser level of whole uniform blocks, as
@@ -30,7 +30,7 @@ struct MapSummary {
   std::size_t blocks_in_uniform_groups = 0;
 };
 
-// Costs one pass over every voxel of every block.
+// Costs one pass over every voxel of every block and one over the blocks.
 MapSummary summarize_map(const MetricMap& map);
 
 }  // namespace sarmap::metric
