@@ -59,7 +59,10 @@ TEST_F(ArenaCheckCli, TheRunsArenaIsScored) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j.at("arena_checked"), true);
-  EXPECT_GT(j.at("voxel_recall").get<double>(), 0.8);
+  // Within one voxel: the strict recall depends on which side of a voxel face
+  // the floor's hits fall, which differs between Embree's SIMD kernels
+  // (voxel_eval_cli_test.cpp).
+  EXPECT_GT(j.at("voxel_recall_within_1").get<double>(), 0.99);
 }
 
 TEST_F(ArenaCheckCli, AnotherArenaIsRefusedNamingBoth) {

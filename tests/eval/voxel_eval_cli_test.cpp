@@ -28,17 +28,21 @@ TEST(VoxelEvalCli, FiguresOfASimulatedRun) {
   EXPECT_GT(counts.at("truth_observed").get<int>(), 100);
   EXPECT_GT(counts.at("truth_free").get<int>(), 100);
   // Noise-free: the map's hits land on the surface voxels. Strict figures lose
-  // a little where a surface lies on a voxel face (truth on both sides).
-  // Thresholds sit just under what this run measures (2026-11-26: precision
-  // 1.0, recall 0.869, within one voxel 1.0 / 1.0, free accuracy 0.985, free
-  // precision 0.871, class accuracy 0.977), so a regression shows.
+  // where a surface lies on a voxel face (the floor at z = 0, the ramp's deck
+  // at 0.2 m): which side a hit falls on is decided by the last bit of the
+  // ray caster's arithmetic, and Embree's SSE, AVX2 and AVX-512 kernels differ
+  // there (strict recall 0.817 / 0.788 / 0.869, free precision 0.846 / 0.849
+  // / 0.871, 2026-11-28). So the strict recall and free precision have bounds
+  // below every kernel's, and the figures within one voxel, which no rounding
+  // moves, sit just under what the run measures (precision 1.0, recall 1.0,
+  // free accuracy 0.985, class accuracy 0.977), so a regression shows.
   EXPECT_GT(j.at("voxel_precision").get<double>(), 0.99);
-  EXPECT_GT(j.at("voxel_recall").get<double>(), 0.85);
+  EXPECT_GT(j.at("voxel_recall").get<double>(), 0.75);
   EXPECT_GT(j.at("voxel_precision_within_1").get<double>(), 0.99);
   EXPECT_GT(j.at("voxel_recall_within_1").get<double>(), 0.99);
   EXPECT_GE(j.at("voxel_f1_within_1").get<double>(), j.at("voxel_f1").get<double>());
   EXPECT_GT(j.at("free_accuracy").get<double>(), 0.97);
-  EXPECT_GT(j.at("free_precision").get<double>(), 0.85);
+  EXPECT_GT(j.at("free_precision").get<double>(), 0.8);
   EXPECT_GT(j.at("voxel_class_accuracy").get<double>(), 0.96);
   for (const auto& n : j.at("notes"))
     EXPECT_EQ(n.get<std::string>().find("map.sarmap"), std::string::npos) << n;
