@@ -6,6 +6,7 @@
 
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap {
 namespace {
@@ -32,7 +33,7 @@ TEST(Quiet, SilencesClassifysSummary) {
       "one.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                  "end_header\n0.5 0.5 0.1\n");
   const std::string args = "classify " + quoted(cloud.string()) + " --model " +
-                           quoted(kData + "/dgcnn/model_c6.safetensors") + " --min-points 1 --out ";
+                           quoted(test::fixture_model_c6().string()) + " --min-points 1 --out ";
   const auto loud = run_cli(args + quoted((scratch / "loud.ply").string()), scratch.path());
   ASSERT_EQ(loud.exit_code, 0) << loud.err;
   EXPECT_NE(loud.out.find("classified 1 points in 1 blocks"), std::string::npos) << loud.out;

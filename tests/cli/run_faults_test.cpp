@@ -13,6 +13,7 @@
 #include "engine/metric/semantic_blocks.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/scratch_folder.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap {
 namespace {
@@ -92,7 +93,7 @@ TEST_F(RunFaults, FarPointsAreDroppedAndCounted) {
                             "property float z\nproperty uchar label\nend_header\n0 0 1 1\n1 0 1 1\n0 1 1 1\n"
                             "1e30 0 1 2\n";
   const fs::path input = sequence(frame);
-  const std::string model = std::string(SARMAP_TEST_DATA_DIR) + "/dgcnn/model_c6.safetensors";
+  const std::string model = test::fixture_model_c6().string();
   auto r = run_cli("run " + quoted(input.string()) + " --out " + quoted(out().string()) +
                        " --voxel 0.1 --quiet --min-block-points 1 --model " + quoted(model),
                    scratch_.path());

@@ -16,6 +16,7 @@
 #include "engine/pipeline/run_summary.hpp"
 #include "tests/metric/synthetic_room.hpp"
 #include "tests/release_only.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap::pipeline {
 namespace {
@@ -25,7 +26,7 @@ MapperConfig map_classifier_config() {
   config.voxel = 0.1;
   config.semantic_points_voxel = 0.1;
   config.classifier.kind = ClassifierKind::Dgcnn;
-  config.classifier.model = SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors";
+  config.classifier.model = test::fixture_model_c6();
   config.classifier.per_scan = false;
   config.classifier.map_cell = 0.05;
   return config;

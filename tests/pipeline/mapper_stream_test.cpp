@@ -20,6 +20,7 @@
 #include "engine/sim/simulator.hpp"
 #include "tests/pipeline/default_arena.hpp"
 #include "tests/pipeline/same_maps.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap::pipeline {
 namespace {
@@ -34,7 +35,7 @@ MapperConfig bounded_map_classifier_config() {
   config.semantic_points_voxel = 0.1;
   config.bounds.max_blocks = 100;
   config.classifier.kind = ClassifierKind::Dgcnn;
-  config.classifier.model = SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors";
+  config.classifier.model = test::fixture_model_c6();
   // Few, coarse blocks: the test is about when they run, not how well.
   config.classifier.dgcnn.min_points = 400;
   config.classifier.map_cell = 0.1;

@@ -25,6 +25,7 @@
 #include "tests/file_bytes.hpp"
 #include "tests/release_only.hpp"
 #include "tests/semantic/dgcnn_test_data.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap {
 namespace {
@@ -59,7 +60,7 @@ TEST(ClassifyCloud, SharesRunsOptionNamesDefaultsAndModel) {
     for (std::size_t p = 800; p < out.size(); ++p) labelled += out.labels()[p] != 0;
     return labelled;
   };
-  const std::string model = "--model " + kDgcnnDataDir + "model_c6.safetensors";
+  const std::string model = "--model " + test::fixture_model_c6().string();
   EXPECT_EQ(labelled_in_small_block(model), 150u);
   EXPECT_EQ(labelled_in_small_block(model + " --min-block-points 200"), 0u);
   EXPECT_EQ(labelled_in_small_block(model + " --min-points 200"), 0u);

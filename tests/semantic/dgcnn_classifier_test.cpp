@@ -13,6 +13,8 @@
 #include "engine/core/error.hpp"
 #include "engine/semantic/dgcnn/dgcnn_classifier.hpp"
 
+#include "tests/semantic/fixture_model.hpp"
+
 namespace sarmap {
 namespace {
 
@@ -35,7 +37,7 @@ DgcnnClassifierSettings one_block_per_cell(const DgcnnModel& model) {
 }
 
 TEST(DgcnnClassifier, ByDefaultBlocksOverlapByAQuarter) {
-  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  const DgcnnModel model = DgcnnModel::load(test::fixture_model_c6());
   DgcnnClassifierSettings quarter;
   quarter.stride = kDefaultStrideFraction * model.metadata().block_size;
   PointBuffer by_default = small_scene(), by_quarter = small_scene(), apart = small_scene();
@@ -53,7 +55,7 @@ TEST(DgcnnClassifier, ByDefaultBlocksOverlapByAQuarter) {
 
 // The neighbour search is quadratic: a 200,000-point raw block ran for minutes.
 TEST(DgcnnModel, RefusesBlocksBeyondTheLimitBeforeAnyWork) {
-  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  const DgcnnModel model = DgcnnModel::load(test::fixture_model_c6());
   const std::size_t n = DgcnnModel::kMaxBlockPoints + 1;
   const std::vector<float> block(n * model.channels(), 0.0f);
   std::vector<float> logits(n * model.classes());
@@ -68,7 +70,7 @@ TEST(DgcnnModel, RefusesBlocksBeyondTheLimitBeforeAnyWork) {
 }
 
 TEST(DgcnnClassifier, LabelsEveryPointWithValidClassesAndProbabilities) {
-  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  const DgcnnModel model = DgcnnModel::load(test::fixture_model_c6());
   const DgcnnClassifier classifier(model, one_block_per_cell(model));
   PointBuffer cloud = small_scene();
   const DgcnnClassifyStats stats = classifier.classify(cloud);
@@ -98,7 +100,7 @@ TEST(DgcnnClassifier, LabelsEveryPointWithValidClassesAndProbabilities) {
 }
 
 TEST(DgcnnClassifier, IndependentOfThreadCount) {
-  const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  const DgcnnModel model = DgcnnModel::load(test::fixture_model_c6());
   const DgcnnClassifier classifier(model, {});
   PointBuffer one = small_scene(), two = small_scene();
   {

@@ -16,12 +16,13 @@
 #include "engine/core/error.hpp"
 #include "engine/semantic/map/dgcnn_map_classifier.hpp"
 #include "tests/release_only.hpp"
+#include "tests/semantic/fixture_model.hpp"
 
 namespace sarmap {
 namespace {
 
 const DgcnnModel& fixture_model() {
-  static const DgcnnModel model = DgcnnModel::load(SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors");
+  static const DgcnnModel model = DgcnnModel::load(test::fixture_model_c6());
   return model;
 }
 
