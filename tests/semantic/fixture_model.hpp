@@ -7,7 +7,7 @@
 // same weights), written once per test process and removed at its exit: the
 // sanitizers check every vector load of the kNN and EdgeConv kernels, which
 // makes a 4,096-point block cost about fifty times its release time and made
-// these tests most of CI's sanitizer time (docs/reliability.md, "In CI"). The
+// these tests most of CI's sanitizer time (docs/reliability.md, "CI's time"). The
 // kernels' own tests still run every block size there, and the golden tests
 // keep the original file.
 #pragma once
