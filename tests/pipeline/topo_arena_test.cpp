@@ -80,6 +80,7 @@ void expect_ramp_nodes_off_the_slope(const sim::Arena& arena, const topo::TopoMa
 }
 
 TEST(TopoArena, DefaultArena) {
+  RELEASE_ONLY();  // figures of the whole default arena; RampLeadsOntoAPlatform runs under the sanitizers
   const sim::Arena arena = shipped_arena("esogu-6x4.json");
   const auto mapper = map_arena(arena, 1);
   const topo::TopoMap& topo = mapper->topo_map();
