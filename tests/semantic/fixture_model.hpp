@@ -14,47 +14,54 @@
 
 #include <unistd.h>
 
-#include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <stdexcept>
 #include <string>
+#include <system_error>
+#include <vector>
 
+#include "engine/io/safetensors.hpp"
 #include "tests/release_only.hpp"
 
 namespace sarmap::test {
 
 namespace fixture_model_detail {
 
-// The copy: `original` with its header's points per block 4096 -> 1024 (same
-// length, so the header's size and the tensors' offsets stay).
-inline std::filesystem::path write_small_block_copy(const std::filesystem::path& original) {
-  std::ifstream in(original, std::ios::binary);
-  std::string bytes{std::istreambuf_iterator<char>(in), {}};
-  std::uint64_t header_size = 0;
-  if (bytes.size() < 8) throw std::runtime_error("fixture model too short: " + original.string());
-  std::memcpy(&header_size, bytes.data(), 8);
-  const std::size_t header_end = 8 + header_size;
-  const std::size_t key = bytes.find("\"sarmap.points_per_block\"", 8);
-  const std::size_t value = key == std::string::npos ? key : bytes.find("\"4096\"", key);
-  if (value == std::string::npos || value >= header_end) {
-    throw std::runtime_error("fixture model's header has no points_per_block 4096: " + original.string());
+// The copy: `original`'s float tensors and metadata, with 1,024 points per
+// block. The int64 batch-norm counters are left out: loading ignores them.
+inline void write_small_block_copy(const std::filesystem::path& original, const std::filesystem::path& copy) {
+  const SafetensorsFile file = SafetensorsFile::read(original);
+  std::vector<std::vector<float>> values;
+  values.reserve(file.tensors().size());  // the tensors below point into it
+  std::vector<SafetensorsFloatTensor> tensors;
+  for (const SafetensorsTensor& tensor : file.tensors()) {
+    if (tensor.dtype != "F32") continue;
+    values.push_back(file.floats(tensor));
+    tensors.push_back({tensor.name, tensor.shape, values.back()});
   }
-  bytes.replace(value, 6, "\"1024\"");
-  const std::filesystem::path copy = std::filesystem::temp_directory_path() /
-                                     ("sarmap-test-model-c6-n1024-" + std::to_string(::getpid()) + ".safetensors");
-  std::ofstream(copy, std::ios::binary | std::ios::trunc) << bytes;
-  return copy;
+  auto metadata = file.metadata();
+  metadata.at("sarmap.points_per_block") = "1024";
+  write_safetensors(copy, tensors, metadata);
 }
 
-struct RemovedAtExit {
-  std::filesystem::path path;
-  ~RemovedAtExit() {
-    std::error_code ignored;
-    std::filesystem::remove(path, ignored);
+// The copy's file, of this test process alone (the pid in its name),
+// removed at exit.
+class SmallBlockCopy {
+ public:
+  explicit SmallBlockCopy(const std::filesystem::path& original)
+      : path_(std::filesystem::temp_directory_path() /
+              ("sarmap-test-model-c6-n1024-" + std::to_string(::getpid()) + ".safetensors")) {
+    write_small_block_copy(original, path_);
   }
+  SmallBlockCopy(const SmallBlockCopy&) = delete;
+  SmallBlockCopy& operator=(const SmallBlockCopy&) = delete;
+  ~SmallBlockCopy() {
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
 };
 
 }  // namespace fixture_model_detail
@@ -62,8 +69,8 @@ struct RemovedAtExit {
 inline std::filesystem::path fixture_model_c6() {
   const std::filesystem::path original = SARMAP_TEST_DATA_DIR "/dgcnn/model_c6.safetensors";
   if (!kSanitizedBuild) return original;
-  static const fixture_model_detail::RemovedAtExit copy{fixture_model_detail::write_small_block_copy(original)};
-  return copy.path;
+  static const fixture_model_detail::SmallBlockCopy copy(original);
+  return copy.path();
 }
 
 }  // namespace sarmap::test
