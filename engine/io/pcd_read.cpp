@@ -77,6 +77,20 @@ void prepare(PointBuffer& points, const FieldLayout& layout, std::size_t count, 
                                           std::to_string(value) + "; expected a class id in 0..255");
 }
 
+// PCL 1.13's binary writers leave zero bytes after the data (3906 after the
+// 300 points of tests/data/clouds/pcl_tools_binary.pcd, 1389 after the
+// compressed data of pcl_tools_binary_compressed.pcd), so zeros there are
+// padding; anything else after the data is a wrong count or a damaged file.
+void refuse_non_zero_after_data(std::string_view bytes, std::size_t data_end, const std::string& data,
+                                const std::string& hint, const std::string& file) {
+  const std::size_t non_zero = bytes.find_first_not_of('\0', data_end);
+  if (non_zero == std::string_view::npos) return;
+  throw Error(ErrorCode::Parse, at_offset(file, data_end,
+                                          std::to_string(bytes.size() - data_end) + " bytes follow the " + data +
+                                              " and the one at byte offset " + std::to_string(non_zero) +
+                                              " is not zero (only zero padding may follow the data): " + hint));
+}
+
 void read_binary(std::string_view bytes, const PcdHeader& header, FieldLayout& layout, PointBuffer& points,
                  const std::string& file, const InputLimits& limits) {
   const std::size_t stride = header.point_size();
@@ -89,18 +103,8 @@ void read_binary(std::string_view bytes, const PcdHeader& header, FieldLayout& l
                                                               " bytes of data follow (file truncated or POINTS wrong)"));
   }
   const auto count = static_cast<std::size_t>(header.points);
-  // PCL 1.13's binary writer leaves zero bytes after the points (3906 after
-  // the 300 of tests/data/clouds/pcl_tools_binary.pcd), so zeros there are
-  // padding; anything else after the data is a wrong POINTS or a damaged file.
-  const std::size_t data_end = offset + count * stride;
-  const std::size_t non_zero = bytes.find_first_not_of('\0', data_end);
-  if (non_zero != std::string_view::npos) {
-    throw Error(ErrorCode::Parse,
-                at_offset(file, data_end,
-                          std::to_string(bytes.size() - data_end) + " bytes follow the " + std::to_string(count) +
-                              " points the header declares and the one at byte offset " + std::to_string(non_zero) +
-                              " is not zero (only zero padding may follow the data): POINTS wrong?"));
-  }
+  refuse_non_zero_after_data(bytes, offset + count * stride, std::to_string(count) + " points the header declares",
+                             "POINTS wrong?", file);
   std::size_t field_offset = 0;
   for (std::size_t k = 0; k < header.fields.size(); ++k) {
     if (layout.binding_of_field[k] != kUnboundField) {
@@ -152,6 +156,9 @@ void read_binary_compressed(std::string_view bytes, const PcdHeader& header, Fie
                                                               " compressed bytes cannot expand to the declared " +
                                                               std::to_string(uncompressed_size)));
   }
+  refuse_non_zero_after_data(bytes, data + compressed_size,
+                             std::to_string(compressed_size) + " compressed bytes the file declares",
+                             "compressed size wrong?", file);
   const auto count = static_cast<std::size_t>(header.points);
   std::vector<std::uint8_t> unpacked(uncompressed_size);
   try {

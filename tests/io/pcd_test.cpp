@@ -180,26 +180,35 @@ TEST(Pcd, ReadsPclToolsBinaryWithZeroPaddingAsItsAsciiSource) {
   EXPECT_EQ(info.encoding, "binary_compressed");
 }
 
-// The rule itself, on a file of our own: zeros after the points are read as
-// padding, and one non-zero byte among them is refused with its offset.
-TEST(Pcd, AcceptsZeroBytesAfterBinaryPointsAndRefusesAnyOther) {
+// The rule itself, on files of our own in both binary encodings: zeros after
+// the data are read as padding, and one non-zero byte among them is refused
+// with its offset.
+TEST(Pcd, AcceptsZeroBytesAfterBinaryDataAndRefusesAnyOther) {
   test::ScratchDir dir("pcd");
   const PointBuffer cloud = make_cloud(50, 27);
-  write_pcd(dir / "c.pcd", cloud, {.binary = true});
-  std::string bytes = slurp(dir / "c.pcd");
-  const std::size_t data_end = bytes.size();
-  bytes.append(4096, '\0');
-  test::spit(dir / "padded.pcd", bytes);
-  expect_same_cloud(cloud, read_pcd(dir / "padded.pcd"));
+  struct Encoding {
+    bool compressed;
+    std::string data;  // what the message says the padding follows
+  };
+  for (const Encoding& encoding : {Encoding{false, "50 points the header declares"},
+                                   Encoding{true, " compressed bytes the file declares"}}) {
+    SCOPED_TRACE(encoding.compressed ? "binary_compressed" : "binary");
+    write_pcd(dir / "c.pcd", cloud, {.binary = true, .compressed = encoding.compressed});
+    std::string bytes = slurp(dir / "c.pcd");
+    const std::size_t data_end = bytes.size();
+    bytes.append(4096, '\0');
+    test::spit(dir / "padded.pcd", bytes);
+    expect_same_cloud(cloud, read_pcd(dir / "padded.pcd"));
 
-  bytes[data_end + 4000] = 1;
-  test::spit(dir / "dirty.pcd", bytes);
-  const std::string path = (dir / "dirty.pcd").string();
-  const Error e = test::error_from([&] { read_pcd(path); });
-  EXPECT_EQ(e.code(), ErrorCode::Parse);
-  EXPECT_THAT(e.what(), HasSubstr(path + " (byte offset " + std::to_string(data_end) + "): 4096 bytes follow the 50 "
-                                  "points the header declares and the one at byte offset " +
-                                  std::to_string(data_end + 4000) + " is not zero"));
+    bytes[data_end + 4000] = 1;
+    test::spit(dir / "dirty.pcd", bytes);
+    const std::string path = (dir / "dirty.pcd").string();
+    const Error e = test::error_from([&] { read_pcd(path); });
+    EXPECT_EQ(e.code(), ErrorCode::Parse);
+    EXPECT_THAT(e.what(), HasSubstr(path + " (byte offset " + std::to_string(data_end) + "): 4096 bytes follow the "));
+    EXPECT_THAT(e.what(), HasSubstr(encoding.data + " and the one at byte offset " + std::to_string(data_end + 4000) +
+                                    " is not zero"));
+  }
 }
 
 TEST(Pcd, AsciiAndBinaryOfTheSameCloudAgree) {
