@@ -106,6 +106,55 @@ TEST(CliInfo, SequenceJsonAgreesWithWhatWasWritten) {
   EXPECT_EQ(j["time"]["last"], 0.75);
 }
 
+// A frame that cannot be read is counted and passed over, as `run` skips it;
+// a sequence with no readable frame is an error naming the first failure.
+TEST(CliInfo, UnreadableFramesAreCountedAndPassedOver) {
+  test::ScratchFolder dir;
+  const std::string good =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+      "end_header\n0 0 1\n1 0 1\n";
+  const std::string truncated = good.substr(0, good.size() - 6);
+  const auto write_sequence = [&](const std::string& name, const std::string& middle) {
+    dir.write(name + "/a.ply", middle == good ? truncated : good);
+    dir.write(name + "/b.ply", middle);
+    dir.write(name + "/c.ply", middle == good ? truncated : good);
+    std::string frames;
+    for (const char* file : {"a.ply", "b.ply", "c.ply"}) {
+      frames += std::string(frames.empty() ? "" : ", ") + R"({"file": ")" + file +
+                R"(", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]})";
+    }
+    dir.write(name + "/sequence.json",
+              R"({"version": 1, "points_frame": "sensor", "sensor": {"type": "lidar", "max_range": 10}, "frames": [)" +
+                  frames + "]}");
+    return (dir / name).string();
+  };
+
+  const std::string one_bad = write_sequence("one_bad", truncated);
+  auto r = run_cli("info " + quoted(one_bad), dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("frames: 2 (1 unreadable, the first: "));
+  EXPECT_THAT(r.out, HasSubstr("b.ply"));
+  EXPECT_THAT(r.out, HasSubstr("points: 4\n"));
+  r = run_cli("info --json " + quoted(one_bad), dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["frames"], 2);
+  EXPECT_EQ(j["unreadable_frames"], 1);
+  EXPECT_THAT(j["first_unreadable"].get<std::string>(), HasSubstr("b.ply"));
+
+  // Two of three unreadable, then the third too.
+  const std::string one_good = write_sequence("one_good", good);
+  r = run_cli("info --json " + quoted(one_good), dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["unreadable_frames"], 2);
+  dir.write("one_good/b.ply", truncated);
+  r = run_cli("info " + quoted(one_good), dir.path());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "");
+  EXPECT_THAT(r.err, HasSubstr("none of the 3 frames could be read; the first: "));
+  EXPECT_THAT(r.err, HasSubstr("a.ply"));
+}
+
 TEST(CliInfo, ErrorsGoToStderrWithANonZeroExit) {
   test::ScratchFolder dir;
   auto r = run_cli("info " + quoted((dir / "absent.ply").string()), dir.path());

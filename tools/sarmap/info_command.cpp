@@ -192,10 +192,20 @@ void sequence_info(const InfoArgs& a) {
   std::optional<Eigen::Vector3d> previous;
   ClassCounts classes{};
   bool labelled = false;
+  std::size_t unreadable = 0;
+  std::string first_unreadable;
   {
     ProgressLine progress("info", source->size(), !a.quiet);
     Scan scan;
-    while (source->next(scan)) {
+    // A frame that cannot be read is counted and passed over, as `run` skips
+    // it: the source has moved past it (ScanSource::next).
+    while (true) {
+      try {
+        if (!source->next(scan)) break;
+      } catch (const Error& e) {
+        if (unreadable++ == 0) first_unreadable = e.what();
+        continue;
+      }
       total_points += scan.points.size();
       dropped += scan.dropped_non_finite;
       bounds.extend(scan.points.bounds());
@@ -211,6 +221,10 @@ void sequence_info(const InfoArgs& a) {
     }
   }
 
+  if (frames == 0 && unreadable > 0) {
+    throw Error(ErrorCode::InvalidData, "info: none of the " + std::to_string(unreadable) +
+                                            " frames could be read; the first: " + first_unreadable);
+  }
   if (a.json) {
     Json j;
     j["path"] = a.path;
@@ -218,6 +232,8 @@ void sequence_info(const InfoArgs& a) {
     j["layout"] = source->layout();
     j["frames"] = frames;
     j["skipped_frames"] = source->skipped_frames();
+    j["unreadable_frames"] = unreadable;
+    j["first_unreadable"] = unreadable > 0 ? Json(first_unreadable) : Json(nullptr);
     j["sensor"] = sensor_json(source->sensor());
     j["points"] = total_points;
     j["dropped_non_finite"] = dropped;
@@ -237,6 +253,7 @@ void sequence_info(const InfoArgs& a) {
     std::printf(" (%zu more skipped: no pose within %g s)", source->skipped_frames(),
                 a.sequence.max_time_difference);
   }
+  if (unreadable > 0) std::printf(" (%zu unreadable, the first: %s)", unreadable, first_unreadable.c_str());
   std::printf("\nsensor: %s\n", sensor_text(source->sensor()).c_str());
   std::printf("points: %zu", total_points);
   if (dropped > 0) std::printf(" (%zu dropped for NaN/Inf coordinates)", dropped);
