@@ -169,6 +169,13 @@ TEST_F(RosbagInput, AScanWithNoPoseNearItIsSkippedWithAWarning) {
   const auto profile = nlohmann::json::parse(read_all(*dir_ / "gap_run" / "profile.json"));
   EXPECT_EQ(profile.at("skipped_scans"), 1);
   EXPECT_EQ(profile.at("skipped").at(0).at("scan"), 1);
+  // info describes the same bag, counting the scan it cannot place.
+  const auto info = run_cli("info --json " + quoted((*dir_ / "gap.bag").string()), *dir_);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto j = nlohmann::json::parse(info.out);
+  EXPECT_EQ(j.at("frames"), 2);
+  EXPECT_EQ(j.at("unreadable_frames"), 1);
+  EXPECT_THAT(j.at("first_unreadable").get<std::string>(), HasSubstr("/points message 1: no pose on /odom"));
   // A wider tolerance takes the next frame's decoy pose, 0.6 s later, and nothing is skipped.
   const auto wide = run("gap.bag", "gap_wide", "--max-time-difference 0.7");
   ASSERT_EQ(wide.exit_code, 0) << wide.err;
