@@ -1,6 +1,7 @@
 // `sarmap info` on clouds and sequences, text and --json, and its errors.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -114,13 +115,13 @@ TEST(CliInfo, UnreadableFramesAreCountedAndPassedOver) {
       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
       "end_header\n0 0 1\n1 0 1\n";
   const std::string truncated = good.substr(0, good.size() - 6);
-  const auto write_sequence = [&](const std::string& name, const std::string& middle) {
-    dir.write(name + "/a.ply", middle == good ? truncated : good);
-    dir.write(name + "/b.ply", middle);
-    dir.write(name + "/c.ply", middle == good ? truncated : good);
+  // A three-frame sensor-frame sequence of these PLY texts, all at the identity pose.
+  const auto write_sequence = [&](const std::string& name, const std::array<std::string, 3>& plys) {
     std::string frames;
-    for (const char* file : {"a.ply", "b.ply", "c.ply"}) {
-      frames += std::string(frames.empty() ? "" : ", ") + R"({"file": ")" + file +
+    for (std::size_t f = 0; f < plys.size(); ++f) {
+      const std::string file = std::string(1, static_cast<char>('a' + f)) + ".ply";
+      dir.write(name + "/" + file, plys[f]);
+      frames += std::string(f == 0 ? "" : ", ") + R"({"file": ")" + file +
                 R"(", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]})";
     }
     dir.write(name + "/sequence.json",
@@ -129,7 +130,7 @@ TEST(CliInfo, UnreadableFramesAreCountedAndPassedOver) {
     return (dir / name).string();
   };
 
-  const std::string one_bad = write_sequence("one_bad", truncated);
+  const std::string one_bad = write_sequence("one_bad", {good, truncated, good});
   auto r = run_cli("info " + quoted(one_bad), dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("frames: 2 (1 unreadable, the first: "));
@@ -143,7 +144,7 @@ TEST(CliInfo, UnreadableFramesAreCountedAndPassedOver) {
   EXPECT_THAT(j["first_unreadable"].get<std::string>(), HasSubstr("b.ply"));
 
   // Two of three unreadable, then the third too.
-  const std::string one_good = write_sequence("one_good", good);
+  const std::string one_good = write_sequence("one_good", {truncated, good, truncated});
   r = run_cli("info --json " + quoted(one_good), dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["unreadable_frames"], 2);
