@@ -8,6 +8,7 @@
 #include "engine/io/point_cloud_file.hpp"
 #include "engine/io/sequence_writer.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/cli/frame_sequence.hpp"
 #include "tests/io/png_test_writer.hpp"
 #include "tests/io/scratch_folder.hpp"
 
@@ -115,19 +116,9 @@ TEST(CliInfo, UnreadableFramesAreCountedAndPassedOver) {
       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
       "end_header\n0 0 1\n1 0 1\n";
   const std::string truncated = good.substr(0, good.size() - 6);
-  // A three-frame sensor-frame sequence of these PLY texts, all at the identity pose.
+  // A three-frame sequence of these PLY texts, all at the identity pose.
   const auto write_sequence = [&](const std::string& name, const std::array<std::string, 3>& plys) {
-    std::string frames;
-    for (std::size_t f = 0; f < plys.size(); ++f) {
-      const std::string file = std::string(1, static_cast<char>('a' + f)) + ".ply";
-      dir.write(name + "/" + file, plys[f]);
-      frames += std::string(f == 0 ? "" : ", ") + R"({"file": ")" + file +
-                R"(", "pose": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]})";
-    }
-    dir.write(name + "/sequence.json",
-              R"({"version": 1, "points_frame": "sensor", "sensor": {"type": "lidar", "max_range": 10}, "frames": [)" +
-                  frames + "]}");
-    return (dir / name).string();
+    return test::write_frame_sequence(dir, name, {{plys[0]}, {plys[1]}, {plys[2]}}).string();
   };
 
   const std::string one_bad = write_sequence("one_bad", {good, truncated, good});

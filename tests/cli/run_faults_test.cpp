@@ -12,6 +12,7 @@
 
 #include "engine/metric/semantic_blocks.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/cli/frame_sequence.hpp"
 #include "tests/io/scratch_folder.hpp"
 #include "tests/semantic/fixture_model.hpp"
 
@@ -22,23 +23,16 @@ namespace fs = std::filesystem;
 using test::quoted;
 using test::run_cli;
 
-constexpr const char* kIdentity = "[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]";
+constexpr const char* kIdentity = test::kIdentityPose;
 constexpr const char* kGoodFrame =
     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
     "property uchar label\nend_header\n0 0 1 1\n1 0 1 2\n0 1 1 2\n";
 
 class RunFaults : public ::testing::Test {
  protected:
-  // A sensor-frame sequence of three frames whose middle one is `middle` at `middle_pose`.
+  // A sequence of three frames whose middle one is `middle` at `middle_pose`.
   fs::path sequence(const std::string& middle, const std::string& middle_pose = kIdentity) {
-    scratch_.write("seq/a.ply", kGoodFrame);
-    scratch_.write("seq/b.ply", middle);
-    scratch_.write("seq/c.ply", kGoodFrame);
-    scratch_.write("seq/sequence.json",
-                   std::string(R"({"version": 1, "points_frame": "sensor", "sensor": {"type": "lidar", "max_range": 10}, "frames": [)") +
-                       R"({"file": "a.ply", "pose": )" + kIdentity + "}, " + R"({"file": "b.ply", "pose": )" +
-                       middle_pose + "}, " + R"({"file": "c.ply", "pose": )" + kIdentity + "}]}");
-    return scratch_ / "seq";
+    return test::write_frame_sequence(scratch_, "seq", {{kGoodFrame}, {middle, middle_pose}, {kGoodFrame}});
   }
   test::CliResult run(const fs::path& input, const std::string& extra = "") {
     return run_cli("run " + quoted(input.string()) + " --out " + quoted(out().string()) +
