@@ -204,6 +204,7 @@ void sequence_info(const InfoArgs& a) {
         if (!source->next(scan)) break;
       } catch (const Error& e) {
         if (unreadable++ == 0) first_unreadable = e.what();
+        progress.update(frames + unreadable);  // frames read so far, readable or not
         continue;
       }
       total_points += scan.points.size();
@@ -217,7 +218,7 @@ void sequence_info(const InfoArgs& a) {
       last_time = scan.timestamp;
       labelled = labelled || scan.points.has_labels();
       count_classes(scan.points, classes);
-      progress.update(++frames);
+      progress.update(++frames + unreadable);
     }
   }
 
