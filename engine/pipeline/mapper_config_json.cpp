@@ -41,6 +41,7 @@ void visit_config(V& v, C& c) {
     v.field("map_cell", k.map_cell);
     v.field("map_growth", k.map_growth);
     v.field("map_min_new_points", k.map_min_new_points);
+    v.field("map_max_wait_scans", k.map_max_wait_scans);
     v.group("dgcnn", [&] {
       v.field("stride", k.dgcnn.stride);
       v.field("min_points", k.dgcnn.min_points);

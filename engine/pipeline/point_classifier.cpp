@@ -51,6 +51,7 @@ DgcnnMapClassifierSettings map_settings(const ClassifierConfig& config) {
   s.min_points = config.dgcnn.min_points;
   s.growth = config.map_growth;
   s.min_new_points = config.map_min_new_points;
+  s.max_wait_scans = config.map_max_wait_scans;
   s.seed = config.dgcnn.seed;
   return s;
 }

@@ -49,12 +49,13 @@ struct ClassifierConfig {
   DgcnnClassifierSettings dgcnn = pipeline_dgcnn_settings();
   // dgcnn: classify each scan on its own instead of the accumulated map
   // (engine/semantic/map/dgcnn_map_classifier.hpp), whose cell and growth
-  // come from map_cell, map_growth and map_min_new_points; the stride, minimum points and seed
-  // above serve both.
+  // come from map_cell, map_growth, map_min_new_points and
+  // map_max_wait_scans; the stride, minimum points and seed above serve both.
   bool per_scan = false;
   double map_cell = 0.025;
   double map_growth = 0.25;
   std::size_t map_min_new_points = 512;
+  std::size_t map_max_wait_scans = 10;
   // dgcnn: the rules that correct the network's labels, in their order
   // (engine/semantic/rules/rule_chain.hpp), on each scan and on the kept
   // points relabelled from the map.

@@ -1,6 +1,6 @@
 // ClassDelays against a plain reference: a list of (point, added at,
 // classified at) kept by hand, through settles, renumbering, merging and a
-// saved state.
+// saved state, and the points still waiting by the scan that added them.
 #include "engine/semantic/map/class_delays.hpp"
 
 #include <gtest/gtest.h>
@@ -75,6 +75,14 @@ TEST(ClassDelays, MatchesAHandKeptListOnRandomSequences) {
     got.resize(reference.size(), 0);
     ASSERT_EQ(got, reference) << "trial " << trial;
     ASSERT_EQ(delays.waiting(), added_at.size());
+    // The waiting points by the scan that added them (points were numbered in order).
+    for (std::uint32_t scan = 0; scan <= 61; ++scan) {
+      std::vector<std::uint32_t> expected;
+      for (const auto& [p, at] : added_at) {
+        if (at == scan) expected.push_back(p);
+      }
+      ASSERT_EQ(delays.waiting_since(scan), expected) << "trial " << trial << ", scan " << scan;
+    }
     // The saved state continues identically; merging adds the histograms.
     StateWriter out;
     delays.save_state(out);
@@ -101,6 +109,13 @@ TEST(ClassDelays, LongWaitsShareTheLastBinAndABadStateIsRefused) {
   out.put_vector(std::vector<std::uint64_t>{});
   StateReader in(out.bytes(), "state");
   EXPECT_THROW(delays.load_state(in), Error);
+  // Waiting points are kept in the order of the scans that added them.
+  StateWriter unordered;
+  unordered.tag("CDLY");
+  unordered.put_vector(std::vector<std::uint32_t>{0, 5, 1, 3});  // point 0 of scan 5, then point 1 of scan 3
+  unordered.put_vector(std::vector<std::uint64_t>{});
+  StateReader in2(unordered.bytes(), "state");
+  EXPECT_THROW(delays.load_state(in2), Error);
 }
 
 }  // namespace

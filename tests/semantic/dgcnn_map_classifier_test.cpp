@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <random>
 
@@ -177,6 +178,40 @@ TEST(DgcnnMapClassifier, ClassDelaysMatchAReferenceAskingEveryPointAfterEverySca
   EXPECT_EQ(delays.recorded() + delays.waiting(), classifier.map().size());
   EXPECT_GT(reference.size(), 1u) << "some points should wait";
   EXPECT_GT(reference[0], 0u) << "some points should have their class at once";
+}
+
+// Blocks classified once and then never again for growth (a huge minimum of
+// new points): the strip each scan adds beyond a cell of classified points
+// waits for its class, unless max_wait_scans has its block classified.
+TEST(DgcnnMapClassifier, APointWaitingMaxWaitScansHasItsBlockClassified) {
+  constexpr std::uint32_t kScans = 6, kWait = 2;
+  const auto classify_scans = [](std::size_t max_wait_scans, std::vector<std::uint32_t>& added_at) {
+    DgcnnMapClassifierSettings s = settings();
+    s.min_new_points = 1000000;
+    s.max_wait_scans = max_wait_scans;
+    auto classifier = std::make_unique<DgcnnMapClassifier>(fixture_model(), s);
+    for (std::uint32_t number = 1; number <= kScans; ++number) {
+      PointBuffer scan = growing_scan(static_cast<int>(number) - 1);
+      classifier->classify(scan);
+      added_at.resize(classifier->map().size(), number);  // new map points come last
+    }
+    return classifier;
+  };
+  std::vector<std::uint32_t> added_waiting, added_bounded;
+  const auto waiting = classify_scans(0, added_waiting);
+  const auto bounded = classify_scans(kWait, added_bounded);
+  ASSERT_EQ(added_waiting, added_bounded);  // the same map points
+  std::size_t still_waiting = 0;
+  for (std::uint32_t p = 0; p < added_bounded.size(); ++p) {
+    if (added_bounded[p] + kWait <= kScans) {
+      EXPECT_NE(bounded->map_point_class(p), ClassId::Unknown) << "map point " << p << " of scan " << added_bounded[p];
+    }
+    still_waiting += waiting->map_point_class(p) == ClassId::Unknown;
+  }
+  EXPECT_GT(still_waiting, 0u) << "without the bound, some points should still wait";
+  EXPECT_LE(bounded->class_delays().histogram().size(), kWait + 1);
+  EXPECT_GT(waiting->class_delays().waiting(), bounded->class_delays().waiting());
+  EXPECT_GT(bounded->blocks_classified(), waiting->blocks_classified());
 }
 
 // What a bounded map drops, the labelled point map lets go of; the rest keep

@@ -292,5 +292,44 @@ TEST(MapBlockSchedule, ABlockClassifiedBeforeWaitsForItsMinimumOfNewPointsGrowin
   EXPECT_EQ(block.classify_ready(), 1u);  // quiet with 100 unseen points
 }
 
+// The block a long-waiting point is classified with: of the blocks holding
+// it with min_points and unseen points, the one whose centre is nearest,
+// against a search over every block of a window.
+TEST(MapBlockSchedule, TheMostCentralUnfinishedBlockOfAPointMatchesASearchOfEveryBlock) {
+  MapBlockSettings settings;  // 1 m blocks every 0.75 m
+  settings.min_points = 30;
+  MapBlockSchedule schedule(settings);
+  const PointBuffer points = random_points(3000, 7, 3.0f);
+  std::vector<std::uint32_t> first, rest;
+  for (std::uint32_t p = 0; p < points.size(); ++p) (p < 2000 ? first : rest).push_back(p);
+  schedule.add_points(points, first);
+  for (MapBlock* block : schedule.ready()) block->classified_points = block->points.size();
+  // Some blocks get new points, some stay as classified; the edges keep fewer than min_points.
+  std::erase_if(rest, [&](std::uint32_t p) { return points.x()[p] > 1.0f; });
+  schedule.add_points(points, rest);
+  std::size_t found = 0, none = 0;
+  for (std::uint32_t p = 0; p < points.size(); p += 7) {
+    const double x = points.x()[p], y = points.y()[p];
+    const MapBlock* expected = nullptr;
+    double nearest = 0.0;
+    for (long long j = -8; j <= 8; ++j) {
+      for (long long i = -8; i <= 8; ++i) {
+        const MapBlock* block = schedule.find(i, j);
+        if (!block || !(i * 0.75 <= x && x < i * 0.75 + 1.0 && j * 0.75 <= y && y < j * 0.75 + 1.0)) continue;
+        if (block->points.size() < 30 || block->points.size() == block->classified_points) continue;
+        const double d = std::hypot(x - (i * 0.75 + 0.5), y - (j * 0.75 + 0.5));
+        if (!expected || d < nearest) {
+          expected = block;
+          nearest = d;
+        }
+      }
+    }
+    EXPECT_EQ(schedule.most_central_unfinished(x, y), expected) << x << ", " << y;
+    (expected ? found : none) += 1;
+  }
+  EXPECT_GT(found, 50u);
+  EXPECT_GT(none, 50u);  // held only by blocks classified with all their points, or too sparse
+}
+
 }  // namespace
 }  // namespace sarmap

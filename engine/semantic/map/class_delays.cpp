@@ -31,6 +31,14 @@ void ClassDelays::merge(const ClassDelays& other) {
   for (std::size_t d = 0; d < other.histogram_.size(); ++d) histogram_[d] += other.histogram_[d];
 }
 
+std::vector<std::uint32_t> ClassDelays::waiting_since(std::uint32_t scan) const {
+  const auto first = std::lower_bound(waiting_.begin(), waiting_.end(), scan,
+                                      [](const Waiting& w, std::uint32_t s) { return w.scan < s; });
+  std::vector<std::uint32_t> points;
+  for (auto it = first; it != waiting_.end() && it->scan == scan; ++it) points.push_back(it->point);
+  return points;
+}
+
 bool ClassDelays::consistent_with(std::size_t points, std::uint32_t scans) const {
   return std::all_of(waiting_.begin(), waiting_.end(),
                      [&](const Waiting& w) { return w.point < points && w.scan <= scans; });
@@ -64,6 +72,10 @@ void ClassDelays::load_state(StateReader& in) {
   auto waiting = in.get_vector<Waiting>();
   auto histogram = in.get_vector<std::uint64_t>();
   if (histogram.size() > kMaxDelay + 1) in.fail("the class delays' histogram is longer than its last bin");
+  if (!std::is_sorted(waiting.begin(), waiting.end(),
+                      [](const Waiting& a, const Waiting& b) { return a.scan < b.scan; })) {
+    in.fail("the class delays' waiting points are out of order");
+  }
   waiting_ = std::move(waiting);
   histogram_ = std::move(histogram);
 }

@@ -33,6 +33,9 @@ class ClassDelays {
   void renumber(const std::vector<std::uint32_t>& renumbered);
   // Adds another map's recorded waits (a merged map's points are not followed further).
   void merge(const ClassDelays& other);
+  // The points added by scan number `scan` that are still waiting, in the
+  // order they were added.
+  std::vector<std::uint32_t> waiting_since(std::uint32_t scan) const;
 
   // histogram()[d]: points that got their class d scans after they were
   // added (the last bin: kMaxDelay or more).
@@ -56,7 +59,7 @@ class ClassDelays {
     std::uint32_t point;
     std::uint32_t scan;
   };
-  std::vector<Waiting> waiting_;  // in the order points were added
+  std::vector<Waiting> waiting_;  // in the order points were added, so by scan
   std::vector<std::uint64_t> histogram_;
 };
 

@@ -103,10 +103,29 @@ DgcnnMapClassifyStats DgcnnMapClassifier::classify(PointBuffer& scan) {
 
   const std::size_t waited_before = delays_.waiting();
   delays_.added(added, ++scans_);
-  stats.blocks = classify_blocks(schedule_.ready());
+  std::vector<MapBlock*> ready = schedule_.ready();
+  add_blocks_of_long_waiting_points(ready);
+  stats.blocks = classify_blocks(ready);
   settle_class_delays(stats.blocks > 0 ? 0 : waited_before);
   stats.unlabelled = label_points(scan, of_point);
   return stats;
+}
+
+void DgcnnMapClassifier::add_blocks_of_long_waiting_points(std::vector<MapBlock*>& ready) {
+  const std::size_t wait = settings_.max_wait_scans;
+  if (wait == 0 || scans_ <= wait) return;
+  // A point waits only while no block holding it was classified after it
+  // arrived and no neighbour a cell away has a class, so the points that
+  // reach the wait now are all that can need a block for it.
+  const std::size_t before = ready.size();
+  const PointBuffer& points = map_.points();
+  for (const std::uint32_t p : delays_.waiting_since(scans_ - static_cast<std::uint32_t>(wait))) {
+    if (MapBlock* block = schedule_.most_central_unfinished(points.x()[p], points.y()[p])) ready.push_back(block);
+  }
+  if (ready.size() == before) return;
+  const auto by_key = [](const MapBlock* a, const MapBlock* b) { return std::pair(a->j, a->i) < std::pair(b->j, b->i); };
+  std::sort(ready.begin(), ready.end(), by_key);
+  ready.erase(std::unique(ready.begin(), ready.end()), ready.end());
 }
 
 std::size_t DgcnnMapClassifier::classify_blocks(const std::vector<MapBlock*>& ready) {

@@ -35,6 +35,11 @@ struct DgcnnMapClassifierSettings {
   std::size_t min_points = 100;  // map points a block needs before it is first classified
   double growth = 0.25;          // a block is classified again once it has grown by this fraction
   std::size_t min_new_points = 512;  // ... and by at least this many points (a quarter of the shipped model's block)
+  // A map point still without a class (its own or a neighbour's) this many
+  // scans after it arrived has its most central block classified, however
+  // few new points that block holds: an isolated surface, a LiDAR's far
+  // points, would otherwise wait for min_new_points. 0: points wait.
+  std::size_t max_wait_scans = 10;
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
 };
 
@@ -101,6 +106,9 @@ class DgcnnMapClassifier {
 
  private:
   std::vector<std::uint8_t> classify_block(const MapBlock& block, DgcnnWorkspace& workspace) const;
+  // Adds to `ready` (in (j, i) order, as MapBlockSchedule::ready() gives)
+  // the blocks of the map points that have now waited max_wait_scans.
+  void add_blocks_of_long_waiting_points(std::vector<MapBlock*>& ready);
   // Classifies the blocks in parallel and fuses their scores in order.
   std::size_t classify_blocks(const std::vector<MapBlock*>& blocks);
   std::size_t label_points(PointBuffer& points, std::span<const std::uint32_t> map_points) const;

@@ -96,6 +96,29 @@ std::vector<MapBlock*> MapBlockSchedule::unfinished() {
   return result;
 }
 
+MapBlock* MapBlockSchedule::most_central_unfinished(double x, double y) {
+  const double b = settings_.block_size, s = settings_.stride;
+  const auto [i0, i1] = covering_block_range(x, s, b);
+  const auto [j0, j1] = covering_block_range(y, s, b);
+  MapBlock* best = nullptr;
+  double best_distance = 0.0;
+  for (long long j = j0; j <= j1; ++j) {
+    for (long long i = i0; i <= i1; ++i) {
+      const auto it = blocks_.find({j, i});
+      if (it == blocks_.end()) continue;
+      MapBlock& block = it->second;
+      if (block.points.size() < settings_.min_points || block.points.size() == block.classified_points) continue;
+      const double dx = x - (static_cast<double>(i) * s + 0.5 * b), dy = y - (static_cast<double>(j) * s + 0.5 * b);
+      const double distance = dx * dx + dy * dy;
+      if (!best || distance < best_distance) {
+        best = &block;
+        best_distance = distance;
+      }
+    }
+  }
+  return best;
+}
+
 const MapBlock* MapBlockSchedule::find(long long i, long long j) const {
   const auto it = blocks_.find({j, i});
   return it == blocks_.end() ? nullptr : &it->second;

@@ -60,6 +60,11 @@ class MapBlockSchedule {
   // Every block holding points no classification has seen, with at least
   // min_points, in (j, i) order: what is left to do when the scans end.
   std::vector<MapBlock*> unfinished();
+  // Of the blocks holding (x, y) that have min_points and points no
+  // classification has seen, the one whose centre is nearest (the first in
+  // (j, i) order on a tie), or nullptr: the block to classify for a map
+  // point that has waited too long for its class. Valid as ready()'s.
+  MapBlock* most_central_unfinished(double x, double y);
   // Block (i, j), or nullptr when no point has reached it.
   const MapBlock* find(long long i, long long j) const;
 
