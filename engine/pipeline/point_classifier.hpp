@@ -55,7 +55,7 @@ struct ClassifierConfig {
   double map_cell = 0.025;
   double map_growth = 0.25;
   std::size_t map_min_new_points = 512;
-  std::size_t map_max_wait_scans = 10;
+  std::size_t map_max_wait_scans = 20;
   // dgcnn: the rules that correct the network's labels, in their order
   // (engine/semantic/rules/rule_chain.hpp), on each scan and on the kept
   // points relabelled from the map.

@@ -60,7 +60,7 @@ TEST(MapperConfigJson, DefaultsRoundTripWithTheVersionFirst) {
   EXPECT_EQ(written.at("classifier").at("dgcnn").at("min_points"), 100u);  // as sarmap run's
   EXPECT_EQ(written.at("classifier").at("per_scan"), false);  // the accumulated map is classified
   EXPECT_EQ(written.at("classifier").at("map_min_new_points"), 512u);
-  EXPECT_EQ(written.at("classifier").at("map_max_wait_scans"), 10u);
+  EXPECT_EQ(written.at("classifier").at("map_max_wait_scans"), 20u);
   EXPECT_EQ(written.at("segments").at("voxel"), 0.025);
   EXPECT_EQ(written.at("map").at("fusion").at("fusion"), "bayesian");
   // Every setting of every stage, plus the version: a setting added to a

@@ -39,7 +39,7 @@ struct DgcnnMapClassifierSettings {
   // scans after it arrived has its most central block classified, however
   // few new points that block holds: an isolated surface, a LiDAR's far
   // points, would otherwise wait for min_new_points. 0: points wait.
-  std::size_t max_wait_scans = 10;
+  std::size_t max_wait_scans = 20;
   std::uint64_t seed = 1;        // sampling seed; results do not depend on threads
 };
 
