@@ -50,6 +50,10 @@ bool MapBlockSchedule::has_enough_unseen(const MapBlock& block) const {
   return unseen > 0 && (block.classified_points == 0 || unseen >= settings_.min_new_points);
 }
 
+bool MapBlockSchedule::is_unfinished(const MapBlock& block) const {
+  return block.points.size() > block.classified_points && block.points.size() >= settings_.min_points;
+}
+
 bool MapBlockSchedule::is_ready(const MapBlock& block) const {
   const std::size_t n = block.points.size();
   if (n < settings_.min_points) return false;
@@ -75,7 +79,7 @@ std::vector<MapBlock*> MapBlockSchedule::ready() {
                        has_enough_unseen(block);
     if ((grew && is_ready(block)) || quiet) {
       result.push_back(&block);
-    } else if (block.points.size() > block.classified_points && block.points.size() >= settings_.min_points) {
+    } else if (is_unfinished(block)) {
       waiting.push_back(key);
     }
   }
@@ -87,7 +91,7 @@ std::vector<MapBlock*> MapBlockSchedule::ready() {
 std::vector<MapBlock*> MapBlockSchedule::unfinished() {
   std::vector<MapBlock*> result;
   for (auto& [key, block] : blocks_) {
-    if (block.points.size() > block.classified_points && block.points.size() >= settings_.min_points) {
+    if (is_unfinished(block)) {
       result.push_back(&block);
     }
   }
@@ -107,7 +111,7 @@ MapBlock* MapBlockSchedule::most_central_unfinished(double x, double y) {
       const auto it = blocks_.find({j, i});
       if (it == blocks_.end()) continue;
       MapBlock& block = it->second;
-      if (block.points.size() < settings_.min_points || block.points.size() == block.classified_points) continue;
+      if (!is_unfinished(block)) continue;
       const double dx = x - (static_cast<double>(i) * s + 0.5 * b), dy = y - (static_cast<double>(j) * s + 0.5 * b);
       const double distance = dx * dx + dy * dy;
       if (!best || distance < best_distance) {

@@ -87,6 +87,8 @@ class MapBlockSchedule {
   // classified; else at least min_new_points (and at least one).
   bool has_enough_unseen(const MapBlock& block) const;
   bool is_ready(const MapBlock& block) const;
+  // Holds min_points and points no classification has seen.
+  bool is_unfinished(const MapBlock& block) const;
 
   MapBlockSettings settings_;
   std::map<std::pair<long long, long long>, MapBlock> blocks_;  // key (j, i)
