@@ -81,7 +81,7 @@ TEST(ClassDelays, MatchesAHandKeptListOnRandomSequences) {
       for (const auto& [p, at] : added_at) {
         if (at == scan) expected.push_back(p);
       }
-      ASSERT_EQ(delays.waiting_since(scan), expected) << "trial " << trial << ", scan " << scan;
+      ASSERT_EQ(delays.waiting_added_by(scan), expected) << "trial " << trial << ", scan " << scan;
     }
     // The saved state continues identically; merging adds the histograms.
     StateWriter out;

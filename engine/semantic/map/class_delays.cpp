@@ -31,7 +31,7 @@ void ClassDelays::merge(const ClassDelays& other) {
   for (std::size_t d = 0; d < other.histogram_.size(); ++d) histogram_[d] += other.histogram_[d];
 }
 
-std::vector<std::uint32_t> ClassDelays::waiting_since(std::uint32_t scan) const {
+std::vector<std::uint32_t> ClassDelays::waiting_added_by(std::uint32_t scan) const {
   const auto first = std::lower_bound(waiting_.begin(), waiting_.end(), scan,
                                       [](const Waiting& w, std::uint32_t s) { return w.scan < s; });
   std::vector<std::uint32_t> points;

@@ -35,7 +35,7 @@ class ClassDelays {
   void merge(const ClassDelays& other);
   // The points added by scan number `scan` that are still waiting, in the
   // order they were added.
-  std::vector<std::uint32_t> waiting_since(std::uint32_t scan) const;
+  std::vector<std::uint32_t> waiting_added_by(std::uint32_t scan) const;
 
   // histogram()[d]: points that got their class d scans after they were
   // added (the last bin: kMaxDelay or more).

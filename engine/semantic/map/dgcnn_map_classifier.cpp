@@ -119,7 +119,7 @@ void DgcnnMapClassifier::add_blocks_of_long_waiting_points(std::vector<MapBlock*
   // reach the wait now are all that can need a block for it.
   const std::size_t before = ready.size();
   const PointBuffer& points = map_.points();
-  for (const std::uint32_t p : delays_.waiting_since(scans_ - static_cast<std::uint32_t>(wait))) {
+  for (const std::uint32_t p : delays_.waiting_added_by(scans_ - static_cast<std::uint32_t>(wait))) {
     if (MapBlock* block = schedule_.most_central_unfinished(points.x()[p], points.y()[p])) ready.push_back(block);
   }
   if (ready.size() == before) return;
