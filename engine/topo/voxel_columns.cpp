@@ -24,15 +24,16 @@ void for_each_occupied(const metric::MetricMap& map, const metric::BlockKey& key
   }
 }
 
-// A counting sort by column, then each column's few voxels into height order.
-template <class Range>
-VoxelColumns by_column(const Range& found, std::size_t count, double resolution) {
+// A counting sort by column, then each column's few voxels into height order
+// (nothing to move when `for_each_voxel` visits each column bottom-up).
+template <class ForEachVoxel>
+VoxelColumns by_column(ForEachVoxel&& for_each_voxel, std::size_t count, double resolution) {
   VoxelColumns out;
   out.resolution = resolution;
   if (count == 0) return out;
   bool first = true;
   std::int32_t x1 = 0, y1 = 0;
-  for (const auto& o : found) {
+  for_each_voxel([&](const auto& o) {
     if (first) {
       out.x0 = x1 = o.x;
       out.y0 = y1 = o.y;
@@ -42,20 +43,20 @@ VoxelColumns by_column(const Range& found, std::size_t count, double resolution)
     out.y0 = std::min(out.y0, o.y);
     x1 = std::max(x1, o.x);
     y1 = std::max(y1, o.y);
-  }
+  });
   out.width = x1 - out.x0 + 1;
   out.height = y1 - out.y0 + 1;
   out.start.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1, 0);
-  for (const auto& o : found) ++out.start[out.column(o.x - out.x0, o.y - out.y0) + 1];
+  for_each_voxel([&](const auto& o) { ++out.start[out.column(o.x - out.x0, o.y - out.y0) + 1]; });
   for (std::size_t c = 1; c < out.start.size(); ++c) out.start[c] += out.start[c - 1];
   std::vector<std::uint32_t> fill(out.start.begin(), out.start.end() - 1);
   out.z.resize(count);
   out.label.resize(count);
-  for (const auto& o : found) {
+  for_each_voxel([&](const auto& o) {
     const std::uint32_t at = fill[out.column(o.x - out.x0, o.y - out.y0)]++;
     out.z[at] = o.z;
     out.label[at] = o.label;
-  }
+  });
   for (std::size_t c = 0; c + 1 < out.start.size(); ++c) {
     for (std::uint32_t i = out.start[c] + 1; i < out.start[c + 1]; ++i) {
       for (std::uint32_t k = i; k > out.start[c] && out.z[k - 1] > out.z[k]; --k) {
@@ -67,32 +68,6 @@ VoxelColumns by_column(const Range& found, std::size_t count, double resolution)
   return out;
 }
 
-// Every voxel of every cached block, as one range for by_column.
-template <class Blocks>
-struct AllVoxels {
-  const Blocks& blocks;
-  struct Iterator {
-    typename Blocks::const_iterator block, end;
-    std::size_t i;
-    const auto& operator*() const { return block->second[i]; }
-    Iterator& operator++() {
-      if (++i == block->second.size()) {
-        i = 0;
-        do ++block;
-        while (block != end && block->second.empty());
-      }
-      return *this;
-    }
-    bool operator!=(const Iterator& o) const { return block != o.block || i != o.i; }
-  };
-  Iterator begin() const {
-    auto b = blocks.begin();
-    while (b != blocks.end() && b->second.empty()) ++b;
-    return {b, blocks.end(), 0};
-  }
-  Iterator end() const { return {blocks.end(), blocks.end(), 0}; }
-};
-
 }  // namespace
 
 VoxelColumns voxel_columns(const metric::MetricMap& map) {
@@ -100,7 +75,8 @@ VoxelColumns voxel_columns(const metric::MetricMap& map) {
   map.blocks().for_each_block([&](const metric::BlockKey& key, const metric::MetricMap::Blocks::Block& block) {
     for_each_occupied(map, key, block, [&](const Occupied& o) { found.push_back(o); });
   });
-  return by_column(found, found.size(), map.resolution());
+  return by_column([&found](auto&& fn) { std::for_each(found.begin(), found.end(), fn); }, found.size(),
+                   map.resolution());
 }
 
 void OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bounds* changed) {
@@ -119,9 +95,21 @@ void OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bounds* cha
 }
 
 VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
+  // Blocks in ascending height: blocks of one column of blocks hold disjoint
+  // heights, so each voxel column fills bottom-up and the output is the same
+  // whatever the hash order.
+  std::vector<const std::vector<Voxel>*> blocks;
   std::size_t count = 0;
-  for (const auto& entry : blocks_) count += entry.second.size();
-  return by_column(AllVoxels<decltype(blocks_)>{blocks_}, count, resolution);
+  for (const auto& entry : blocks_) {
+    if (entry.second.empty()) continue;
+    blocks.push_back(&entry.second);
+    count += entry.second.size();
+  }
+  std::sort(blocks.begin(), blocks.end(), [](const auto* a, const auto* b) { return a->front().z < b->front().z; });
+  auto for_each_voxel = [&blocks](auto&& fn) {
+    for (const std::vector<Voxel>* block : blocks) std::for_each(block->begin(), block->end(), fn);
+  };
+  return by_column(for_each_voxel, count, resolution);
 }
 
 }  // namespace sarmap::topo
