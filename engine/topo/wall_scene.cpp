@@ -6,6 +6,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/geometry/segment_box.hpp"
+#include "engine/topo/voxel_wall_boxes.hpp"
 
 namespace sarmap::topo {
 namespace {
@@ -30,31 +31,6 @@ geometry::OrientedBox segment_box(const segments::Segment& s, double grow) {
   return box;
 }
 
-// Occupied voxels of class wall or other, one box per vertical run of a column.
-void add_voxel_boxes(const VoxelColumns& columns, double grow, std::vector<geometry::OrientedBox>& boxes) {
-  const double res = columns.resolution;
-  auto obstacle = [&](std::uint32_t i) { return columns.label[i] == ClassId::Wall || columns.label[i] == ClassId::Other; };
-  for (int y = 0; y < columns.height; ++y) {
-    for (int x = 0; x < columns.width; ++x) {
-      const std::size_t c = columns.column(x, y);
-      for (std::uint32_t i = columns.start[c]; i < columns.start[c + 1];) {
-        if (!obstacle(i)) {
-          ++i;
-          continue;
-        }
-        std::uint32_t end = i + 1;
-        while (end < columns.start[c + 1] && obstacle(end) && columns.z[end] == columns.z[end - 1] + 1) ++end;
-        const double bottom = columns.z[i] * res, top = (columns.z[end - 1] + 1) * res;
-        geometry::OrientedBox box;
-        box.center = {(columns.x0 + x + 0.5) * res, (columns.y0 + y + 0.5) * res, (bottom + top) / 2};
-        box.half_extents = {res / 2 + grow, res / 2 + grow, (top - bottom) / 2 + grow};
-        boxes.push_back(box);
-        i = end;
-      }
-    }
-  }
-}
-
 }  // namespace
 
 WallScene::WallScene(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
@@ -65,7 +41,11 @@ WallScene::WallScene(const std::vector<const segments::Segment*>& segments, cons
     if (s->label == ClassId::Wall) boxes_.push_back(segment_box(*s, settings_.robot_radius));
   }
   segment_boxes_ = boxes_.size();
-  if (columns != nullptr && settings_.obstacle_voxels) add_voxel_boxes(*columns, settings_.robot_radius, boxes_);
+  if (columns != nullptr && settings_.obstacle_voxels) {
+    for (const VoxelBox& box : merge_runs(obstacle_runs(*columns))) {
+      boxes_.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
+    }
+  }
   for (std::uint32_t b = 0; b < boxes_.size(); ++b) {
     const geometry::OrientedBox& box = boxes_[b];
     // The box's reach in x and y: |axes| times the half extents.

@@ -1,10 +1,11 @@
 // The walls an edge of the topological map must not pass through, in one
 // Embree scene: every wall segment as a box around its rectangle, plus the
-// occupied voxels of class wall or other (one box per vertical run in a
-// column), all grown by the robot's radius. An edge is tested as occluded
-// rays between its two stand points at each of the robot's body heights, in
-// parallel batches. (The sides of platforms and ramps are not walls here:
-// low at a ramp's foot, they are drops, which the ground profile finds.)
+// occupied voxels of class wall or other (vertical runs of columns, merged
+// where neighbours share extents: engine/topo/voxel_wall_boxes.hpp), all
+// grown by the robot's radius. An edge is tested as occluded rays between its
+// two stand points at each of the robot's body heights, in parallel batches.
+// (The sides of platforms and ramps are not walls here: low at a ramp's foot,
+// they are drops, which the ground profile finds.)
 #pragma once
 
 #include <cstdint>
@@ -45,7 +46,7 @@ class WallScene {
   // Deterministic on any thread count; allocation proportional to the batch.
   void blocked(std::span<const StandPair> pairs, std::span<std::uint8_t> blocked) const;
 
-  // The grown boxes in the scene (segments first, then voxel runs).
+  // The grown boxes in the scene (segments first, then voxel boxes).
   const std::vector<geometry::OrientedBox>& boxes() const { return boxes_; }
   std::size_t segment_boxes() const { return segment_boxes_; }
 
