@@ -7,7 +7,7 @@ namespace {
 
 bool obstacle(ClassId label) { return label == ClassId::Wall || label == ClassId::Other; }
 
-// Extents two boxes must share to merge along one axis, with the box's end on that axis.
+// What two boxes must share to merge along one axis: their extents on the other two.
 struct MergeKey {
   std::int32_t a, b, c, d;
   bool operator==(const MergeKey&) const = default;
