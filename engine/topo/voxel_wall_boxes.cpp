@@ -2,24 +2,40 @@
 
 #include <unordered_map>
 
+#include "engine/metric/voxel_key.hpp"
+
 namespace sarmap::topo {
 namespace {
 
 bool obstacle(ClassId label) { return label == ClassId::Wall || label == ClassId::Other; }
 
-// What two boxes must share to merge along one axis: their extents on the other two.
-struct MergeKey {
-  std::int32_t a, b, c, d;
-  bool operator==(const MergeKey&) const = default;
-};
-
-struct MergeKeyHash {
-  std::size_t operator()(const MergeKey& k) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ull;
-    for (const std::int32_t v : {k.a, k.b, k.c, k.d}) h = (h ^ static_cast<std::uint32_t>(v)) * 0x100000001b3ull;
-    return static_cast<std::size_t>(h ^ (h >> 29));
+// Boxes merged along one axis (`lo`, `hi` its extent's members; `other_lo`,
+// `other_hi` those of the other horizontal axis): a box extends the one
+// before it that ends just before it there and has the same extents on the
+// other two axes. `boxes` must come so that such a neighbour always comes
+// first. The key leaves out other_hi: only the latest box with a given
+// (other_lo, z0, z1) can still be the one just before, so only it is kept,
+// and it is compared in full.
+std::vector<VoxelBox> merge_along(std::span<const VoxelBox> boxes, std::int32_t VoxelBox::*lo,
+                                  std::int32_t VoxelBox::*hi, std::int32_t VoxelBox::*other_lo,
+                                  std::int32_t VoxelBox::*other_hi) {
+  std::vector<VoxelBox> merged;
+  std::unordered_map<std::uint64_t, std::uint32_t, metric::PackedKeyHash> open;
+  for (const VoxelBox& box : boxes) {
+    const auto [it, added] =
+        open.try_emplace(metric::pack(box.*other_lo, box.z0, box.z1), static_cast<std::uint32_t>(merged.size()));
+    if (!added) {
+      VoxelBox& last = merged[it->second];
+      if (last.*hi + 1 == box.*lo && last.*other_hi == box.*other_hi) {
+        last.*hi = box.*hi;
+        continue;
+      }
+      it->second = static_cast<std::uint32_t>(merged.size());
+    }
+    merged.push_back(box);
   }
-};
+  return merged;
+}
 
 }  // namespace
 
@@ -45,33 +61,10 @@ std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns) {
 }
 
 std::vector<VoxelBox> merge_runs(std::span<const VoxelBox> runs) {
-  // Along x: a run extends the strip of its row that has its heights and ends in the column before.
-  std::vector<VoxelBox> strips;
-  std::unordered_map<MergeKey, std::uint32_t, MergeKeyHash> open;
-  for (const VoxelBox& run : runs) {
-    const auto [it, added] = open.try_emplace(MergeKey{run.y0, run.z0, run.z1, 0}, static_cast<std::uint32_t>(strips.size()));
-    if (!added && strips[it->second].x1 + 1 == run.x0) {
-      strips[it->second].x1 = run.x1;
-      continue;
-    }
-    it->second = static_cast<std::uint32_t>(strips.size());
-    strips.push_back(run);
-  }
-  // Along y: strips come row by row, so a strip extends the box with its x
-  // extent and heights that ends in the row before.
-  std::vector<VoxelBox> boxes;
-  open.clear();
-  for (const VoxelBox& strip : strips) {
-    const auto [it, added] =
-        open.try_emplace(MergeKey{strip.x0, strip.x1, strip.z0, strip.z1}, static_cast<std::uint32_t>(boxes.size()));
-    if (!added && boxes[it->second].y1 + 1 == strip.y0) {
-      boxes[it->second].y1 = strip.y1;
-      continue;
-    }
-    it->second = static_cast<std::uint32_t>(boxes.size());
-    boxes.push_back(strip);
-  }
-  return boxes;
+  // Runs come column by column along each row, so along x first; the strips
+  // then come row by row, so along y.
+  const std::vector<VoxelBox> strips = merge_along(runs, &VoxelBox::x0, &VoxelBox::x1, &VoxelBox::y0, &VoxelBox::y1);
+  return merge_along(strips, &VoxelBox::y0, &VoxelBox::y1, &VoxelBox::x0, &VoxelBox::x1);
 }
 
 geometry::OrientedBox grown_box(const VoxelBox& box, double resolution, double grow) {
