@@ -2,11 +2,13 @@
 // dgcnn_model.hpp). Data are point-major: one row of channels per point.
 #include "engine/semantic/dgcnn/dgcnn_model.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/semantic/dgcnn/repeated_rows.hpp"
 #include "kernels/edge_conv.hpp"
 #include "kernels/gemm.hpp"
 #include "kernels/knn.hpp"
@@ -129,8 +131,7 @@ DgcnnModel::DgcnnModel(const DgcnnWeights& w, DgcnnMetadata metadata, kernels::S
   classifier_ = pack(fold(w.conv[8]), level);
 }
 
-void DgcnnModel::forward(const float* block, std::size_t n, float* logits, DgcnnWorkspace& ws,
-                         DgcnnStageTimes* times) const {
+void DgcnnModel::check_block(const float* block, std::size_t n) const {
   if (n == 0) throw Error(ErrorCode::InvalidArgument, "DGCNN forward: empty block");
   if (n > kMaxBlockPoints) {
     throw Error(ErrorCode::OutOfRange, "DGCNN forward: a block of " + std::to_string(n) + " points; at most " +
@@ -143,6 +144,40 @@ void DgcnnModel::forward(const float* block, std::size_t n, float* logits, Dgcnn
                                               std::to_string(i % channels_) + " is not finite");
     }
   }
+}
+
+void DgcnnModel::forward(const float* block, std::size_t n, float* logits, DgcnnWorkspace& ws,
+                         DgcnnStageTimes* times) const {
+  check_block(block, n);
+  const std::size_t distinct = find_repeated_rows(block, n, channels_, ws.repeated);
+  if (distinct == n) {
+    run(block, n, nullptr, logits, ws, times);
+    return;
+  }
+  ws.distinct_logits.resize(distinct * classes_);
+  run(ws.repeated.distinct.data(), distinct, ws.repeated.copies.data(), ws.distinct_logits.data(), ws, times);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::copy_n(ws.distinct_logits.data() + ws.repeated.row_of.data()[i] * classes_, classes_, logits + i * classes_);
+  }
+}
+
+void DgcnnModel::forward_with_copies(const float* rows, std::size_t n, const std::uint32_t* copies, float* logits,
+                                     DgcnnWorkspace& ws, DgcnnStageTimes* times) const {
+  check_block(rows, n);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (copies[i] == 0) throw Error(ErrorCode::InvalidArgument, "DGCNN forward: row " + std::to_string(i) + " has no copies");
+    total += copies[i];
+  }
+  if (total > kMaxBlockPoints) {
+    throw Error(ErrorCode::OutOfRange, "DGCNN forward: rows standing for " + std::to_string(total) +
+                                           " points; at most " + std::to_string(kMaxBlockPoints));
+  }
+  run(rows, n, copies, logits, ws, times);
+}
+
+void DgcnnModel::run(const float* block, std::size_t n, const std::uint32_t* copies, float* logits,
+                     DgcnnWorkspace& ws, DgcnnStageTimes* times) const {
   const std::size_t k = metadata_.k;
   std::size_t widest = 0;
   for (const EdgeLayer& e : edge_) widest = std::max(widest, 2 * e.hidden);
@@ -172,6 +207,7 @@ void DgcnnModel::forward(const float* block, std::size_t n, float* logits, Dgcnn
     const EdgeLayer& layer = edge_[e];
     auto t0 = e == 0 ? order_start : Clock::now();
     kernels::knn(knn_in, ld_in, n, knn_dim, k, level_, ws.knn, ws.neighbours.data(), ws.visit_order.data());
+    if (copies != nullptr) keep_k_nearest_copies(ws.neighbours.data(), n, k, copies);
     auto t1 = Clock::now();
     const std::size_t ld_ab = 2 * layer.hidden;
     kernels::gemm_bias_act(in, ld_in, n, layer.split, 1.0f, ws.edge_terms.data(), ld_ab);

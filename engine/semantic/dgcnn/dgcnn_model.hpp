@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -38,14 +39,27 @@ class DgcnnModel {
   // floats each, row-major. Throws sarmap::Error for n == 0, n >
   // kMaxBlockPoints or a non-finite value. Threads: whatever oneTBB arena the caller runs in; the result does
   // not depend on it. `times`, when given, receives per-stage wall time.
+  // Rows that repeat others (a sparse block filled up by drawing points
+  // again) are computed once, through forward_with_copies().
   void forward(const float* block, std::size_t n, float* logits, DgcnnWorkspace& workspace,
                DgcnnStageTimes* times = nullptr) const;
+
+  // logits of n rows of which row i stands for copies[i] >= 1 identical
+  // points: those of forward() on the block with every row repeated that
+  // many times (repeated_rows.hpp says when a tie makes them differ), in the
+  // time of n rows. Throws as forward() does, and for a zero copy count.
+  void forward_with_copies(const float* rows, std::size_t n, const std::uint32_t* copies, float* logits,
+                           DgcnnWorkspace& workspace, DgcnnStageTimes* times = nullptr) const;
 
   // Floating-point operations of forward() on n points (multiply and add
   // counted apart), after the algebraic rewrites.
   double flops(std::size_t n) const;
 
  private:
+  void check_block(const float* block, std::size_t n) const;
+  void run(const float* block, std::size_t n, const std::uint32_t* copies, float* logits, DgcnnWorkspace& workspace,
+           DgcnnStageTimes* times) const;
+
   struct EdgeLayer {
     kernels::PackedMatrix split;   // 2E x in: [W1; W2 - W1] with [0; bias]
     kernels::PackedMatrix second;  // E' x E (two-convolution layers only)

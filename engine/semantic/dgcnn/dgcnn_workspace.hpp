@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "engine/semantic/dgcnn/repeated_rows.hpp"
 #include "kernels/aligned_buffer.hpp"
 #include "kernels/knn.hpp"
 
@@ -21,13 +22,16 @@ struct DgcnnWorkspace {
   kernels::AlignedBuffer<float> head_bias;          // conv7's bias plus its global share
   kernels::AlignedBuffer<float> head1;              // n x H1
   kernels::AlignedBuffer<float> head2;              // n x H2
+  RepeatedRows repeated;                            // the block's distinct rows, when some repeat
+  kernels::AlignedBuffer<float> distinct_logits;    // distinct rows x classes
 
   // Bytes held by every buffer: a forward pass's working set besides the
   // weights (benchmarks report it per block size).
   std::size_t bytes() const {
     return knn.bytes() + visit_order.capacity_bytes() + order_keys.capacity_bytes() +
            neighbours.capacity_bytes() + edge_terms.capacity_bytes() + local.capacity_bytes() +
-           global.capacity_bytes() + head_bias.capacity_bytes() + head1.capacity_bytes() + head2.capacity_bytes();
+           global.capacity_bytes() + head_bias.capacity_bytes() + head1.capacity_bytes() + head2.capacity_bytes() +
+           repeated.bytes() + distinct_logits.capacity_bytes();
   }
 };
 
