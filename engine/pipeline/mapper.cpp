@@ -134,7 +134,7 @@ std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vect
   // What the metric stage needs of the classifier, read now: the next scan's
   // classification may already run while this one's rays go in.
   if (const DgcnnMapClassifier* on_map = classifier_->accumulated_map()) {
-    voxel_classes = voxel_classes_from_point_map(*on_map, map_.resolution(), map_.inv_resolution());
+    voxel_classes = voxel_classes_from_point_map(*on_map, map_.inv_resolution());
     profile.set_level("classify", "point_map_bytes", static_cast<double>(classifier_->memory_bytes()));
   }
   return number;
@@ -216,7 +216,7 @@ void Mapper::finish() {
   {
     const auto timer = profile_.time("metric");
     const std::size_t voxels = apply_voxel_classes(
-        voxel_classes_from_point_map(*classifier_->accumulated_map(), map_.resolution(), map_.inv_resolution()), map_,
+        voxel_classes_from_point_map(*classifier_->accumulated_map(), map_.inv_resolution()), map_,
         changed);
     profile_.add_count("metric", "voxels_classed_from_point_map", static_cast<double>(voxels));
   }

@@ -6,7 +6,7 @@
 namespace sarmap::pipeline {
 
 std::vector<VoxelClassUpdate> voxel_classes_from_point_map(const DgcnnMapClassifier& classifier,
-                                                           double resolution, double inv_resolution) {
+                                                           double inv_resolution) {
   const LabelledPointMap& points = classifier.map();
   const std::vector<ClassId>& classes = classifier.channel_classes();
   const auto voxel_of = [&](std::uint32_t p) {
@@ -22,12 +22,10 @@ std::vector<VoxelClassUpdate> voxel_classes_from_point_map(const DgcnnMapClassif
   updates.reserve(voxels.size());
   for (const std::uint64_t word : voxels) {
     const metric::VoxelKey key = metric::unpack_voxel(word);
-    const double lo[3] = {key.x * resolution, key.y * resolution, key.z * resolution};
-    const double hi[3] = {lo[0] + resolution, lo[1] + resolution, lo[2] + resolution};
+    const std::int64_t voxel[3] = {key.x, key.y, key.z};
     // One observation of the voxel's map points, each with its mean scores.
     metric::ClassObservation observation;
-    points.for_each_near_box(lo, hi, [&](std::uint32_t p) {
-      if (voxel_of(p) != key) return;
+    points.for_each_in_voxel(voxel, inv_resolution, [&](std::uint32_t p) {
       const std::uint32_t scored = points.scored_point(p);
       if (scored == LabelledPointMap::kNoPoint) return;
       points.mean_scores(scored, mean.data());

@@ -26,10 +26,11 @@ struct VoxelClassUpdate {
   metric::ClassObservation observation;
 };
 
-// One update per voxel (of `resolution`) holding a map point of the
-// classifier's last changed_points() that has scores; reads only the classifier.
+// One update per voxel (of the metric map's inverse resolution
+// `inv_resolution`) holding a map point of the classifier's last
+// changed_points() that has scores; reads only the classifier.
 std::vector<VoxelClassUpdate> voxel_classes_from_point_map(const DgcnnMapClassifier& classifier,
-                                                           double resolution, double inv_resolution);
+                                                           double inv_resolution);
 
 // Replaces the evidence of the voxels the map knows (the others keep none);
 // returns how many changed, and `changed_region` grows by their centres

@@ -3,7 +3,9 @@
 // definitions on random and edge-case inputs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <random>
 #include <map>
@@ -55,6 +57,41 @@ TEST(LabelledPointMap, KeepsTheFirstPointOfEachCell) {
   map.insert(scan, added);
   EXPECT_TRUE(added.empty());
   EXPECT_EQ(map.size(), first.size());
+}
+
+// Every voxel of several grids, against a check of every point: the
+// default 0.025 m cells in 0.05 m voxels (two across) and in 0.1 m ones
+// (four), cells as large as the voxels, and voxels no power of two of the
+// cells across (the general path). Half the points lie on cell boundaries.
+TEST(LabelledPointMap, EachVoxelVisitsExactlyItsPoints) {
+  LabelledPointMap map(0.025, 2);
+  PointBuffer scan = random_points(4000, 9, 0.6f);
+  for (std::size_t i = 0; i < scan.size(); i += 2) {
+    scan.x()[i] = static_cast<float>(std::round(scan.x()[i] / 0.025) * 0.025);
+    scan.z()[i] = static_cast<float>(std::round(scan.z()[i] / 0.05) * 0.05);
+  }
+  std::vector<std::uint32_t> added;
+  map.insert(scan, added);
+  const PointBuffer& points = map.points();
+  for (const double inv_resolution : {1 / 0.05, 1 / 0.1, 1 / 0.025, 1 / 0.06, 1 / 0.03}) {
+    const auto voxel_of = [&](std::uint32_t p) {
+      return std::tuple(std::int64_t(std::floor(double(points.x()[p]) * inv_resolution)),
+                        std::int64_t(std::floor(double(points.y()[p]) * inv_resolution)),
+                        std::int64_t(std::floor(double(points.z()[p]) * inv_resolution)));
+    };
+    std::map<std::tuple<std::int64_t, std::int64_t, std::int64_t>, std::vector<std::uint32_t>> expected;
+    for (std::uint32_t p = 0; p < map.size(); ++p) expected[voxel_of(p)].push_back(p);
+    for (const auto& [key, in_it] : expected) {
+      const std::int64_t voxel[3] = {std::get<0>(key), std::get<1>(key), std::get<2>(key)};
+      std::vector<std::uint32_t> got;
+      map.for_each_in_voxel(voxel, inv_resolution, [&](std::uint32_t p) { got.push_back(p); });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, in_it) << "voxel " << voxel[0] << " " << voxel[1] << " " << voxel[2] << " of "
+                            << 1 / inv_resolution << " m";
+    }
+    const std::int64_t empty[3] = {1000, 0, 0};
+    map.for_each_in_voxel(empty, inv_resolution, [&](std::uint32_t) { ADD_FAILURE() << "a point in an empty voxel"; });
+  }
 }
 
 TEST(LabelledPointMap, SkipsPointsBeyondTheMapLimitsAndNonFiniteOnes) {

@@ -53,10 +53,15 @@ class LabelledPointMap {
   std::uint32_t scored_point(std::uint32_t p) const {
     return hits_[p] > 0 ? p : nearest_classified(points_.x()[p], points_.y()[p], points_.z()[p]);
   }
-  // Calls fn(p) for every map point whose cell overlaps the box [lo, hi]
-  // (so possibly for points up to a cell outside it).
+  // Calls fn(p) once for every map point p in voxel `voxel` of a grid of
+  // inverse cell size inv_resolution (floor(coordinate * inv_resolution) ==
+  // voxel on each axis), as the metric map keys its voxels. Where the voxel
+  // is a power of two of this map's cells across (the defaults: 0.05 m
+  // voxels of 0.025 m cells), only the cells inside it are looked up:
+  // scaling by a power of two is exact, so those cells' points are the
+  // voxel's. Otherwise every cell overlapping it is, and each point checked.
   template <class Fn>
-  void for_each_near_box(const double lo[3], const double hi[3], Fn&& fn) const;
+  void for_each_in_voxel(const std::int64_t voxel[3], double inv_resolution, Fn&& fn) const;
 
   // Adds (sign +1) or takes out (sign -1) one block's quantised scores of
   // `points` (points.size() x classes, row-major).
@@ -114,17 +119,36 @@ class LabelledPointMap {
 };
 
 template <class Fn>
-void LabelledPointMap::for_each_near_box(const double lo[3], const double hi[3], Fn&& fn) const {
+void LabelledPointMap::for_each_in_voxel(const std::int64_t voxel[3], double inv_resolution, Fn&& fn) const {
+  std::int64_t first[3], last[3];
+  int exponent = 0;
+  const double mantissa = std::frexp(inverse_cell_ / inv_resolution, &exponent);
+  const double across = std::ldexp(1.0, exponent - 1);
+  const bool exact = mantissa == 0.5 && exponent >= 1 && inverse_cell_ == across * inv_resolution;
   for (int a = 0; a < 3; ++a) {
-    if (!(std::abs(lo[a]) <= kMaxCoordinate && std::abs(hi[a]) <= kMaxCoordinate && lo[a] <= hi[a])) return;
+    const double lo = static_cast<double>(voxel[a]) / inv_resolution;
+    if (!(std::abs(lo) <= kMaxCoordinate)) return;
+    if (exact) {
+      first[a] = voxel[a] * static_cast<std::int64_t>(across);
+      last[a] = first[a] + static_cast<std::int64_t>(across) - 1;
+    } else {
+      // A cell below too: the division that gives lo may round up past a point of the voxel.
+      first[a] = static_cast<std::int64_t>(std::floor(lo * inverse_cell_)) - 1;
+      last[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(voxel[a] + 1) / inv_resolution * inverse_cell_));
+    }
   }
-  const auto first = [&](int a) { return static_cast<std::int64_t>(std::floor(lo[a] * inverse_cell_)); };
-  const auto last = [&](int a) { return static_cast<std::int64_t>(std::floor(hi[a] * inverse_cell_)); };
-  for (std::int64_t i = first(0); i <= last(0); ++i) {
-    for (std::int64_t j = first(1); j <= last(1); ++j) {
-      for (std::int64_t k = first(2); k <= last(2); ++k) {
+  const auto in_voxel = [&](std::uint32_t p) {
+    const float* xyz[3] = {points_.x().data(), points_.y().data(), points_.z().data()};
+    for (int a = 0; a < 3; ++a) {
+      if (static_cast<std::int64_t>(std::floor(static_cast<double>(xyz[a][p]) * inv_resolution)) != voxel[a]) return false;
+    }
+    return true;
+  };
+  for (std::int64_t i = first[0]; i <= last[0]; ++i) {
+    for (std::int64_t j = first[1]; j <= last[1]; ++j) {
+      for (std::int64_t k = first[2]; k <= last[2]; ++k) {
         const auto it = index_.find(grid_keys::cell_key(i, j, k));
-        if (it != index_.end()) fn(it->second);
+        if (it != index_.end() && (exact || in_voxel(it->second))) fn(it->second);
       }
     }
   }
