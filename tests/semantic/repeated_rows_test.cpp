@@ -89,14 +89,16 @@ TEST(RepeatedRows, KeptNeighboursAreTheDistinctPointsAmongTheKNearestOfTheRepeat
 }
 
 TEST(RepeatedRows, OneCopyEachKeepsTheListsAsTheyAre) {
-  std::vector<std::uint32_t> lists = {0, 3, 1, 2, 1, 0, 2, 3, 2, 1, 0, 3};
-  const std::vector<std::uint32_t> before = lists, ones(3, 1);
-  keep_k_nearest_copies(lists.data(), 3, 4, ones.data());
+  // Four distinct points, k = 3, each list nearest first.
+  std::vector<std::uint32_t> lists = {0, 3, 1, 1, 0, 2, 2, 1, 0, 3, 0, 2};
+  const std::vector<std::uint32_t> before = lists, ones(4, 1);
+  keep_k_nearest_copies(lists.data(), 4, 3, ones.data());
   EXPECT_EQ(lists, before);
-  // Row 0's own copies fill its k = 4 places: it keeps only itself.
-  const std::vector<std::uint32_t> copies = {4, 1, 2, 1};
-  keep_k_nearest_copies(lists.data(), 3, 4, copies.data());
-  EXPECT_EQ(lists, (std::vector<std::uint32_t>{0, 0, 0, 0, 1, 0, 1, 1, 2, 1, 0, 2}));
+  // Point 0's three copies fill its k = 3 places: it keeps only itself;
+  // the others keep themselves and point 0 (point 2 with its two copies, point 1).
+  const std::vector<std::uint32_t> copies = {3, 1, 2, 1};
+  keep_k_nearest_copies(lists.data(), 4, 3, copies.data());
+  EXPECT_EQ(lists, (std::vector<std::uint32_t>{0, 0, 0, 1, 0, 1, 2, 1, 2, 3, 0, 3}));
 }
 
 // The fixture network on a block of `distinct` of the reference block's
