@@ -139,9 +139,8 @@ TEST(DgcnnMapClassifier, FinishClassifiesEveryBlockWithUnseenPoints) {
   EXPECT_EQ(classifier.finish(), 0u);
 }
 
-// How many scans each map point waits for its class, against a reference
-// that asks every map point for its class after every scan and at the end.
-// Runs `scans` scans through the classifier, asking every map point after
+// How many scans each map point waits for its class, against a reference:
+// runs `scans` scans through the classifier, asks every map point after
 // every scan (and after finish()) whether it has a class, and compares the
 // waits that gives with the classifier's own record.
 void expect_delays_match_asking_every_point(DgcnnMapClassifier& classifier,
@@ -191,8 +190,7 @@ TEST(DgcnnMapClassifier, ClassDelaysMatchAReferenceAskingEveryPointAfterEverySca
 
 // Scans of a floor seen in random patches, so that sparse blocks wait next
 // to classified ones and their points borrow classes from neighbours in
-// other blocks: only the points near a block just classified are asked
-// after a scan, which this holds to asking every point.
+// other blocks, which the growing strip above never makes them do.
 TEST(DgcnnMapClassifier, ClassDelaysMatchTheReferenceOnPatchyScans) {
   DgcnnMapClassifierSettings s = settings();
   s.min_points = 150;
