@@ -132,9 +132,11 @@ void LabelledPointMap::for_each_in_voxel(const std::int64_t voxel[3], double inv
       first[a] = voxel[a] * static_cast<std::int64_t>(across);
       last[a] = first[a] + static_cast<std::int64_t>(across) - 1;
     } else {
-      // A cell below too: the division that gives lo may round up past a point of the voxel.
+      // A cell beyond each edge too: the divisions that give the voxel's edges may round past a
+      // point of the voxel, down as well as up.
       first[a] = static_cast<std::int64_t>(std::floor(lo * inverse_cell_)) - 1;
-      last[a] = static_cast<std::int64_t>(std::floor(static_cast<double>(voxel[a] + 1) / inv_resolution * inverse_cell_));
+      const double hi = static_cast<double>(voxel[a] + 1) / inv_resolution;
+      last[a] = static_cast<std::int64_t>(std::floor(hi * inverse_cell_)) + 1;
     }
   }
   const auto in_voxel = [&](std::uint32_t p) {
