@@ -44,9 +44,9 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
       of_point[i] = last_point;
       continue;
     }
-    const auto [it, fresh] = index_.try_emplace(key, static_cast<std::uint32_t>(points_.size()));
-    last_key = key, last_point = it->second;
-    if (fresh) {
+    const std::uint32_t p = index_.find_or_insert(key);
+    last_key = key, last_point = p;
+    if (p == points_.size()) {  // a new cell
       points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
       if (points_.has_colors()) {
         const std::size_t p = points_.size() - 1;
@@ -54,9 +54,9 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
         points_.green()[p] = colours ? scan.green()[i] : 0;
         points_.blue()[p] = colours ? scan.blue()[i] : 0;
       }
-      added.push_back(it->second);
+      added.push_back(p);
     }
-    of_point[i] = it->second;
+    of_point[i] = p;
   }
   sums_.resize(points_.size() * classes_, 0);
   hits_.resize(points_.size(), 0);
@@ -87,8 +87,8 @@ std::uint32_t LabelledPointMap::find(double x, double y, double z) const {
   if (!in_reach(x, y, z)) {
     return kNoPoint;
   }
-  const auto it = index_.find(cell_key(x, y, z));
-  return it == index_.end() ? kNoPoint : it->second;
+  const std::uint32_t p = index_.find(cell_key(x, y, z));
+  return p == FlatKeyIndex::kAbsent ? kNoPoint : p;
 }
 
 std::uint32_t LabelledPointMap::nearest_classified(double x, double y, double z) const {
@@ -102,9 +102,8 @@ std::uint32_t LabelledPointMap::nearest_classified(double x, double y, double z)
   for (std::int64_t di = -1; di <= 1; ++di) {
     for (std::int64_t dj = -1; dj <= 1; ++dj) {
       for (std::int64_t dk = -1; dk <= 1; ++dk) {
-        const auto it = index_.find(grid_keys::cell_key(ci + di, cj + dj, ck + dk));
-        if (it == index_.end() || hits_[it->second] == 0) continue;
-        const std::uint32_t p = it->second;
+        const std::uint32_t p = index_.find(grid_keys::cell_key(ci + di, cj + dj, ck + dk));
+        if (p == FlatKeyIndex::kAbsent || hits_[p] == 0) continue;
         const double ex = points_.x()[p] - x, ey = points_.y()[p] - y, ez = points_.z()[p] - z;
         const double d2 = ex * ex + ey * ey + ez * ez;
         if (best == kNoPoint || d2 < best_d2 || (d2 == best_d2 && p < best)) {
@@ -174,17 +173,14 @@ std::vector<std::uint32_t> LabelledPointMap::keep_only(const std::vector<std::ui
   points_ = points_.select(kept);
   sums_ = std::move(sums);
   hits_ = std::move(hits);
-  index_.clear();
-  for (std::uint32_t p = 0; p < points_.size(); ++p) index_.emplace(cell_key(points_.x()[p], points_.y()[p], points_.z()[p]), p);
+  index_ = FlatKeyIndex(points_.size());
+  for (std::uint32_t p = 0; p < points_.size(); ++p) index_.find_or_insert(cell_key(points_.x()[p], points_.y()[p], points_.z()[p]));
   return renumbered;
 }
 
 std::size_t LabelledPointMap::memory_bytes() const {
   const std::size_t per_point = 3 * sizeof(float) + (points_.has_colors() ? 3 : 0);
-  // An unordered_map node holds the pair and a next pointer; the buckets one pointer each.
-  const std::size_t index = index_.size() * (sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t) + sizeof(void*)) +
-                            index_.bucket_count() * sizeof(void*);
-  return points_.size() * per_point + index + sums_.capacity() * sizeof(std::uint32_t) +
+  return points_.size() * per_point + index_.memory_bytes() + sums_.capacity() * sizeof(std::uint32_t) +
          hits_.capacity() * sizeof(std::uint32_t);
 }
 
@@ -213,10 +209,9 @@ void LabelledPointMap::load_state(StateReader& in) {
   if (sums.size() != points.size() * classes_ || hits.size() != points.size()) {
     in.fail("the labelled point map's score arrays do not match its " + std::to_string(points.size()) + " points");
   }
-  std::unordered_map<std::uint64_t, std::uint32_t> index;
-  index.reserve(points.size());
+  FlatKeyIndex index(points.size());
   for (std::uint32_t p = 0; p < points.size(); ++p) {
-    if (!index.emplace(cell_key(points.x()[p], points.y()[p], points.z()[p]), p).second) {
+    if (index.find_or_insert(cell_key(points.x()[p], points.y()[p], points.z()[p])) != p) {
       in.fail("the labelled point map holds two points in one cell");
     }
   }

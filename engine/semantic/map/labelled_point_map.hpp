@@ -10,9 +10,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
+#include "engine/core/flat_key_index.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/pose.hpp"
 #include "engine/core/state_stream.hpp"
@@ -113,7 +113,10 @@ class LabelledPointMap {
   double inverse_cell_;
   std::size_t classes_;
   PointBuffer points_;
-  std::unordered_map<std::uint64_t, std::uint32_t> index_;  // cell key -> point
+  // Cell key -> point: a cell's point is the index the table gives it, as
+  // both count up from 0 in arrival order. Open addressing, because every
+  // scan point looks its cell up and every unclassified one 27 cells.
+  FlatKeyIndex index_;
   std::vector<std::uint32_t> sums_;                          // size() x classes
   std::vector<std::uint32_t> hits_;
 };
@@ -149,8 +152,8 @@ void LabelledPointMap::for_each_in_voxel(const std::int64_t voxel[3], double inv
   for (std::int64_t i = first[0]; i <= last[0]; ++i) {
     for (std::int64_t j = first[1]; j <= last[1]; ++j) {
       for (std::int64_t k = first[2]; k <= last[2]; ++k) {
-        const auto it = index_.find(grid_keys::cell_key(i, j, k));
-        if (it != index_.end() && (exact || in_voxel(it->second))) fn(it->second);
+        const std::uint32_t p = index_.find(grid_keys::cell_key(i, j, k));
+        if (p != FlatKeyIndex::kAbsent && (exact || in_voxel(p))) fn(p);
       }
     }
   }
