@@ -3,6 +3,7 @@
 #include "engine/semantic/map/dgcnn_map_classifier.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -172,31 +173,47 @@ std::size_t DgcnnMapClassifier::label_points(PointBuffer& points,
   const std::size_t classes = model_.classes();
   const std::vector<ClassId>& out_classes = class_probabilities_.classes();
   points.enable_labels();
-  std::vector<std::size_t> channels(out_classes.size());
+  std::vector<std::size_t> channel_of(out_classes.size());
   for (std::size_t c = 0; c < out_classes.size(); ++c) {
     const std::string name(class_info(out_classes[c]).name);
     const std::size_t existing = points.find_score(name);
-    channels[c] = existing < points.score_count() ? existing : points.add_score(name);
+    channel_of[c] = existing < points.score_count() ? existing : points.add_score(name);
   }
-  std::vector<float> mean(classes), per_class(out_classes.size());
-  std::size_t unknown = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    // A point its block has not classified yet borrows the class of a
-    // classified neighbour a cell away, if it has one: the block will
-    // classify it when it has grown enough.
-    const std::uint32_t p = map_points[i] == LabelledPointMap::kNoPoint ? map_points[i]
-                                                                          : map_.scored_point(map_points[i]);
-    const ClassId label = map_point_class(p);
-    if (label == ClassId::Unknown) {
-      std::fill(per_class.begin(), per_class.end(), 0.0f);
-      ++unknown;
-    } else {
-      map_.mean_scores(p, mean.data());
-      class_probabilities_.sum(mean.data(), per_class.data());
+  std::vector<std::span<float>> channels;  // after every add_score
+  for (const std::size_t channel : channel_of) channels.push_back(points.score(channel));
+  const std::span<std::uint8_t> labels = points.labels();
+  // In parallel over the points (each reads the map and writes only its
+  // own label and scores): a depth camera's scan has tens of thousands,
+  // and this ran on one core while the other waited for it.
+  std::atomic<std::size_t> unknown{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<float> mean(classes), per_class(out_classes.size());
+    std::size_t unknown_here = 0;
+    // Neighbouring scan points (a depth image's row) mostly fall in one map
+    // cell: the previous point's result is reused for the same map point.
+    std::uint32_t previous = LabelledPointMap::kNoPoint;
+    ClassId label = ClassId::Unknown;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      if (i == r.begin() || map_points[i] != previous) {
+        previous = map_points[i];
+        // A point its block has not classified yet borrows the class of a
+        // classified neighbour a cell away, if it has one: the block will
+        // classify it when it has grown enough.
+        const std::uint32_t p = previous == LabelledPointMap::kNoPoint ? previous : map_.scored_point(previous);
+        label = map_point_class(p);
+        if (label == ClassId::Unknown) {
+          std::fill(per_class.begin(), per_class.end(), 0.0f);
+        } else {
+          map_.mean_scores(p, mean.data());
+          class_probabilities_.sum(mean.data(), per_class.data());
+        }
+      }
+      if (label == ClassId::Unknown) ++unknown_here;
+      labels[i] = static_cast<std::uint8_t>(label);
+      for (std::size_t c = 0; c < channels.size(); ++c) channels[c][i] = per_class[c];
     }
-    points.labels()[i] = static_cast<std::uint8_t>(label);
-    for (std::size_t c = 0; c < channels.size(); ++c) points.score(channels[c])[i] = per_class[c];
-  }
+    unknown += unknown_here;
+  });
   return unknown;
 }
 
@@ -209,11 +226,13 @@ void DgcnnMapClassifier::merge(const DgcnnMapClassifier& other, const Pose& othe
 
 std::size_t DgcnnMapClassifier::relabel(PointBuffer& points) const {
   std::vector<std::uint32_t> of_point(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
-    of_point[i] = map_.find(x, y, z);
-    if (of_point[i] == LabelledPointMap::kNoPoint) of_point[i] = map_.nearest_classified(x, y, z);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+      of_point[i] = map_.find(x, y, z);
+      if (of_point[i] == LabelledPointMap::kNoPoint) of_point[i] = map_.nearest_classified(x, y, z);
+    }
+  });
   return label_points(points, of_point);
 }
 
