@@ -295,9 +295,9 @@ void Mapper::forget_dropped_regions(std::uint64_t classify_number, StageProfile&
   if (forgotten == 0) return;
   semantic_points_ = semantic_points_.select(keep);
   std::vector<std::uint64_t> keys(keep.size());
-  for (std::size_t k = 0; k < keep.size(); ++k) keys[k] = semantic_point_keys_[keep[k]];
-  semantic_point_keys_ = std::move(keys);
-  semantic_keys_ = std::unordered_set<std::uint64_t>(semantic_point_keys_.begin(), semantic_point_keys_.end());
+  for (std::size_t k = 0; k < keep.size(); ++k) keys[k] = semantic_keys_.keys()[keep[k]];
+  semantic_keys_ = FlatKeyIndex(keys.size());
+  for (const std::uint64_t key : keys) semantic_keys_.find_or_insert(key);
 }
 
 void Mapper::keep_semantic_points(const PointBuffer& points) {
@@ -307,15 +307,13 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
   // unknown one now would hide the class a later scan brings.
   const bool skip_unknown = classifier_->labels_arrive_late() && points.has_labels();
   std::vector<std::uint32_t> keep;
+  const std::size_t keep_before = semantic_keys_.size();
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
     if (!metric::within_map_limits(x, y, z)) continue;
     if (skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown)) continue;
     const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
-    if (semantic_keys_.insert(key).second) {
-      keep.push_back(i);
-      semantic_point_keys_.push_back(key);
-    }
+    if (semantic_keys_.find_or_insert(key) == keep_before + keep.size()) keep.push_back(i);  // a new voxel
   }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);

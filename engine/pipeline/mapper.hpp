@@ -11,10 +11,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
@@ -243,8 +243,8 @@ class Mapper {
   std::vector<ClassifierForget> classifier_forgets_;  // by at_classify
   std::mutex classifier_forgets_mutex_;               // the maps' stages add while a classify stage takes
   Bounds classes_changed_;  // voxels the classifier of the accumulated map relabelled, for the next topo update
-  std::unordered_set<std::uint64_t> semantic_keys_;  // voxels already holding a kept point
-  std::vector<std::uint64_t> semantic_point_keys_;   // per kept point, its voxel
+  // The voxels holding a kept point; key i is kept point i's voxel.
+  FlatKeyIndex semantic_keys_;
 };
 
 }  // namespace sarmap::pipeline

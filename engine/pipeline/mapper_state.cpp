@@ -28,7 +28,7 @@ void Mapper::save_state(StateWriter& out) const {
   segments_.save_state(out);
   topo_.save_state(out);
   semantic_points_.save_state(out);
-  out.put_vector(semantic_point_keys_);
+  out.put_vector(semantic_keys_.keys());
   profile_.save_state(out);
 }
 
@@ -59,9 +59,10 @@ void Mapper::load_state(StateReader& in) {
     in.fail("the kept points hold " + std::to_string(semantic_points_.size()) + " points but " +
             std::to_string(keys.size()) + " voxel keys");
   }
-  semantic_keys_ = std::unordered_set<std::uint64_t>(keys.begin(), keys.end());
-  if (semantic_keys_.size() != keys.size()) in.fail("two kept points share a voxel key");
-  semantic_point_keys_ = std::move(keys);
+  FlatKeyIndex semantic_keys(keys.size());
+  for (const std::uint64_t key : keys) semantic_keys.find_or_insert(key);
+  if (semantic_keys.size() != keys.size()) in.fail("two kept points share a voxel key");
+  semantic_keys_ = std::move(semantic_keys);
   profile_.load_state(in);
   row_open_ = false;
   merged_ = merged == 1;
