@@ -88,25 +88,35 @@ std::vector<std::uint32_t> nearest_sample(const PointBuffer& points, const Block
   }
   for (std::size_t c = 0; c < start.size() - 1; ++c) start[c + 1] += start[c];
   items.resize(start.back());
+  // The samples' positions beside them in cell order: the search reads
+  // these contiguously instead of through three index arrays.
+  std::vector<float> item_x(items.size()), item_y(items.size()), item_z(items.size());
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
   for (std::size_t s = 0; s < samples.size(); ++s) {
-    if (sample_cell[s] != kNone) items[fill[sample_cell[s]]++] = static_cast<std::uint32_t>(s);
+    if (sample_cell[s] == kNone) continue;
+    const std::uint32_t k = fill[sample_cell[s]]++;
+    const std::uint32_t p = block.points[samples[s]];
+    items[k] = static_cast<std::uint32_t>(s);
+    item_x[k] = points.x()[p], item_y[k] = points.y()[p], item_z[k] = points.z()[p];
   }
   const long long rings = std::max(kSide, layers);
   // Each point's search is independent and writes only its own entry, so
   // the points are split over threads (serial, it showed in a whole run's time).
   const auto search = [&](std::size_t i) {
     const std::uint32_t p = block.points[i];
-    const long long cx = cell_of(points.x()[p], block.origin_x, kSide);
-    const long long cy = cell_of(points.y()[p], block.origin_y, kSide);
-    const long long cz = cell_of(points.z()[p], z_lo, layers);
+    const double px = points.x()[p], py = points.y()[p], pz = points.z()[p];
+    const long long cx = cell_of(px, block.origin_x, kSide);
+    const long long cy = cell_of(py, block.origin_y, kSide);
+    const long long cz = cell_of(pz, z_lo, layers);
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t best_s = kNone;
     const auto visit = [&](long long x, long long y, long long z) {
       const std::size_t c = cell_index(x, y, z);
       for (std::uint32_t k = start[c]; k < start[c + 1]; ++k) {
+        // As dist2(): float coordinates differenced in double.
+        const double dx = px - item_x[k], dy = py - item_y[k], dz = pz - item_z[k];
+        const double d = dx * dx + dy * dy + dz * dz;
         const std::uint32_t s = items[k];
-        const double d = dist2(points, p, block.points[samples[s]]);
         if (d < best || (d == best && s < best_s)) best = d, best_s = s;
       }
     };
