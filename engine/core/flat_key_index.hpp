@@ -1,7 +1,8 @@
 // An open-addressing table from packed 64-bit keys to dense indices 0..n-1 in
 // insertion order: the metric integrator's per-scan scratch (end-voxel
-// dedupe, the blocks a thread's rays touch), the segment map's voxel index
-// and the metric map's index of its pooled blocks (block_map.hpp).
+// dedupe, the blocks a thread's rays touch), the segment map's voxel index,
+// the metric map's index of its pooled blocks (block_map.hpp), the labelled
+// point map's cells and the Mapper's kept-point voxels.
 // Hand-written because it sits in the ray loop and
 // bench/metric/key_table_bench.cpp measures it against std::unordered_map and
 // tbb::concurrent_hash_map on the same look-up stream. Linear probing, so an
