@@ -42,39 +42,42 @@ constexpr double kNoOverlapStride = 1.5;
 // Recorded when the model was committed (again on 2026-11-28 for the model
 // fine-tuned on map-level blocks of both sensors, which classified single
 // scans less well than its predecessor: 0.9203 mean against 0.9572, and on
-// 2026-12-01 for the model fine-tuned on varied sensor mountings); margins
+// 2026-12-01 for the model fine-tuned on varied sensor mountings, and on
+// 2026-12-02 for the one fine-tuned at 1,024 points per block: 0.9564 ->
+// 0.9544 mean here, the veto's and the side faces' scans lower); margins
 // absorb nothing but future changes of sampling order, so they are small.
-constexpr double kRecordedMeanIou = 0.9564;
-constexpr double kRecordedInclinedIou = 0.8776;
-constexpr double kRecordedFlatIou = 0.9814;
+constexpr double kRecordedMeanIou = 0.9544;
+constexpr double kRecordedInclinedIou = 0.8841;
+constexpr double kRecordedFlatIou = 0.9746;
 // Arena 9005 with the steep-surface veto, and its gain in mean IoU over the
 // network alone on the same scans.
-constexpr double kRecordedVetoWallIou = 0.7941;
-constexpr double kRecordedVetoInclinedIou = 0.8266;
-constexpr double kRecordedVetoGain = 0.1637;  // 0.6906 -> 0.8543
+constexpr double kRecordedVetoWallIou = 0.7646;
+constexpr double kRecordedVetoInclinedIou = 0.7779;
+constexpr double kRecordedVetoGain = 0.1806;  // 0.6446 -> 0.8252
 // Arena 9003 (veto on) with the ramp side faces relabelled, and their gain
 // in inclined-ramp IoU over the same run without.
-constexpr double kRecordedSidesInclinedIou = 0.9344;
-constexpr double kRecordedSidesInclinedGain = 0.0803;  // 0.8541 -> 0.9344
+constexpr double kRecordedSidesInclinedIou = 0.8508;
+constexpr double kRecordedSidesInclinedGain = 0.0499;  // 0.8009 -> 0.8508
 // Arena 9005's first frames (the robot faces a long wall, only its lowest
 // band in view, which the network calls other) with the wall bands rule,
 // and its gain in wall IoU over the same frames without.
 const std::vector<std::size_t> kFirstFrames{0, 4, 8};
-constexpr double kRecordedBandsWallIou = 0.9113;
-constexpr double kRecordedBandsWallGain = 0.2899;  // 0.6214 -> 0.9113
+constexpr double kRecordedBandsWallIou = 0.9055;
+constexpr double kRecordedBandsWallGain = 0.5959;  // 0.3096 -> 0.9055
 // The held-out arena's scans with every rule, and the gains of wall feet
 // over the same scans without it (small: a few floor points per scan).
-constexpr double kRecordedFeetTerrainIou = 0.9883;
-constexpr double kRecordedFeetWallIou = 0.9823;
-constexpr double kRecordedFeetTerrainGain = 0.0022;  // 0.9861 -> 0.9883
-constexpr double kRecordedFeetWallGain = 0.0024;     // 0.9799 -> 0.9823
+constexpr double kRecordedFeetTerrainIou = 0.9857;
+constexpr double kRecordedFeetWallIou = 0.9805;
+constexpr double kRecordedFeetTerrainGain = 0.0034;  // 0.9823 -> 0.9857
+constexpr double kRecordedFeetWallGain = 0.0038;     // 0.9767 -> 0.9805
 // The shipped configuration (the accumulated map classified, blocks
 // overlapping by a quarter, every rule on) on the held-out arena's scans;
 // the model before 2026-11-28 scored mean IoU 0.9695, inclined ramp 0.9240,
-// flat ramp 0.9779 here, the one of 2026-11-28 0.9653, 0.9021 and 0.9821.
-constexpr double kRecordedDefaultMeanIou = 0.9731;
-constexpr double kRecordedDefaultInclinedIou = 0.9285;
-constexpr double kRecordedDefaultFlatIou = 0.9860;
+// flat ramp 0.9779 here, the one of 2026-11-28 0.9653, 0.9021 and 0.9821,
+// the one of 2026-12-01 0.9731, 0.9285 and 0.9860.
+constexpr double kRecordedDefaultMeanIou = 0.9672;
+constexpr double kRecordedDefaultInclinedIou = 0.9124;
+constexpr double kRecordedDefaultFlatIou = 0.9838;
 constexpr double kMargin = 0.02;
 
 // The given frames of a held-out arena, classified in order by one classifier.
@@ -215,16 +218,17 @@ TEST(ShippedModel, TheShippedConfigurationKeepsItsRecordedAccuracy) {
 // blocks classified before waited for 512 new points (depth 0.9596 -> 0.9588,
 // LiDAR 0.9019 -> 0.8984 mean IoU) and for the model fine-tuned on map-level
 // blocks of both sensors (depth 0.9637, LiDAR 0.9210) and on 2026-12-01 for
-// the model fine-tuned on varied mountings (machine D); the whole test
-// split's figures are in PERF.md.
+// the model fine-tuned on varied mountings (machine D; depth 0.9627, LiDAR
+// 0.9219) and on 2026-12-02 for the one at 1,024 points per block (D); the
+// whole test split's figures are in PERF.md.
 constexpr std::uint64_t kTestArena = 9101;
 constexpr std::size_t kTestEvery = 8;
-constexpr double kRecordedTestDepthMeanIou = 0.9627;
-constexpr double kRecordedTestDepthInclinedIou = 0.9559;
-constexpr double kRecordedTestDepthFlatIou = 0.9192;
-constexpr double kRecordedTestLidarMeanIou = 0.9219;
-constexpr double kRecordedTestLidarInclinedIou = 0.9586;
-constexpr double kRecordedTestLidarFlatIou = 0.7716;
+constexpr double kRecordedTestDepthMeanIou = 0.9498;
+constexpr double kRecordedTestDepthInclinedIou = 0.9334;
+constexpr double kRecordedTestDepthFlatIou = 0.8938;
+constexpr double kRecordedTestLidarMeanIou = 0.9285;
+constexpr double kRecordedTestLidarInclinedIou = 0.9255;
+constexpr double kRecordedTestLidarFlatIou = 0.8327;
 
 eval::ConfusionMatrix map_test_arena(SensorType sensor) {
   sim::RandomSensor seen_by;
