@@ -34,7 +34,7 @@ struct DgcnnMapClassifierSettings {
   double stride = 0.0;           // metres between block origins; <= 0: kDefaultStrideFraction x the block size
   std::size_t min_points = 100;  // map points a block needs before it is first classified
   double growth = 0.25;          // a block is classified again once it has grown by this fraction
-  std::size_t min_new_points = 512;  // ... and by at least this many points (a quarter of the shipped model's block)
+  std::size_t min_new_points = 512;  // ... and by at least this many points (chosen on the validation arenas)
   // A map point still without a class (its own or a neighbour's) this many
   // scans after it arrived has its most central block classified, however
   // few new points that block holds: an isolated surface, a LiDAR's far
