@@ -308,11 +308,17 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
   const bool skip_unknown = classifier_->labels_arrive_late() && points.has_labels();
   std::vector<std::uint32_t> keep;
   const std::size_t keep_before = semantic_keys_.size();
+  // Neighbouring points (a depth image's row, a ring) mostly share a voxel,
+  // which the first of them has already put in the index.
+  std::uint64_t last_key = 0;
+  bool looked_up = false;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
     if (!metric::within_map_limits(x, y, z)) continue;
     if (skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown)) continue;
     const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
+    if (looked_up && key == last_key) continue;
+    last_key = key, looked_up = true;
     if (semantic_keys_.find_or_insert(key) == keep_before + keep.size()) keep.push_back(i);  // a new voxel
   }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.

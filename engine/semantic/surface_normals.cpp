@@ -2,12 +2,13 @@
 
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
 #include <Eigen/Eigenvalues>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "engine/core/error.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
@@ -97,7 +98,11 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
   std::vector<std::uint32_t> cell_of(n, kNoCell);
   std::vector<std::array<std::int64_t, 3>> cell_coords;
   std::vector<CellSums> sums;
-  std::unordered_map<std::uint64_t, std::uint32_t> cell_index;
+  FlatKeyIndex cell_index(n / 16);
+  // Neighbouring points (a depth image's row, a ring) mostly share a cell:
+  // the last cell's index is taken without a hash lookup.
+  std::uint64_t last_key = 0;
+  std::uint32_t last_cell = kNoCell;
   for (std::size_t p = 0; p < n; ++p) {
     const double x = points.x()[p], y = points.y()[p], z = points.z()[p];
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
@@ -107,14 +112,17 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     const std::array<std::int64_t, 3> c{static_cast<std::int64_t>(std::floor((x - rx) * inv)),
                                         static_cast<std::int64_t>(std::floor((y - ry) * inv)),
                                         static_cast<std::int64_t>(std::floor((z - rz) * inv))};
-    const auto [it, inserted] =
-        cell_index.try_emplace(grid_keys::cell_key(c[0], c[1], c[2]), static_cast<std::uint32_t>(sums.size()));
-    if (inserted) {
-      sums.emplace_back();
-      cell_coords.push_back(c);
+    const std::uint64_t key = grid_keys::cell_key(c[0], c[1], c[2]);
+    if (last_cell == kNoCell || key != last_key) {
+      last_key = key;
+      last_cell = cell_index.find_or_insert(key);
+      if (last_cell == sums.size()) {  // a new cell
+        sums.emplace_back();
+        cell_coords.push_back(c);
+      }
     }
-    sums[it->second].add(x - rx, y - ry, z - rz);
-    cell_of[p] = it->second;
+    sums[last_cell].add(x - rx, y - ry, z - rz);
+    cell_of[p] = last_cell;
   }
 
   // One plane fit per cell over its 27-cell neighbourhood; where that
@@ -128,8 +136,8 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj)
         for (int dk = -1; dk <= 1; ++dk) {
-          const auto it = cell_index.find(grid_keys::cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk));
-          if (it != cell_index.end()) pooled.add(sums[it->second]);
+          const std::uint32_t other = cell_index.find(grid_keys::cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk));
+          if (other != FlatKeyIndex::kAbsent) pooled.add(sums[other]);
         }
     PlaneFit fit = fit_plane(pooled, settings.min_points);
     if (!fit.valid || fit.curvature > settings.max_curvature) {
@@ -139,14 +147,16 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     cell_fit[c] = fit;
   });
 
-  for (std::size_t p = 0; p < n; ++p) {
-    const std::uint32_t c = cell_of[p];
-    if (c == kNoCell || !cell_fit[c].valid) continue;
-    const PlaneFit& f = cell_fit[c];
-    out.nx[p] = f.normal[0], out.ny[p] = f.normal[1], out.nz[p] = f.normal[2];
-    out.curvature[p] = f.curvature;
-    out.valid[p] = 1;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t p = r.begin(); p != r.end(); ++p) {
+      const std::uint32_t c = cell_of[p];
+      if (c == kNoCell || !cell_fit[c].valid) continue;
+      const PlaneFit& f = cell_fit[c];
+      out.nx[p] = f.normal[0], out.ny[p] = f.normal[1], out.nz[p] = f.normal[2];
+      out.curvature[p] = f.curvature;
+      out.valid[p] = 1;
+    }
+  });
   return out;
 }
 

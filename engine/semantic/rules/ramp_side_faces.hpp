@@ -22,8 +22,9 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
+#include <vector>
 
+#include "engine/core/flat_key_index.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/state_stream.hpp"
 
@@ -67,9 +68,12 @@ class RampDeckMemory {
   std::size_t label_under_known_decks(PointBuffer& points) const;
 
   // Forgets every deck (a new sequence).
-  void clear() { columns_.clear(); }
+  void clear() {
+    column_index_.clear();
+    spans_.clear();
+  }
   // Grid columns holding deck.
-  std::size_t columns() const { return columns_.size(); }
+  std::size_t columns() const { return spans_.size(); }
 
   // The decks seen so far, for a checkpoint (engine/core/state_stream.hpp).
   void save_state(StateWriter& out) const;
@@ -91,7 +95,10 @@ class RampDeckMemory {
   bool under_a_deck(const DecksAround& decks, double z) const;
 
   RampSideSettings settings_;
-  std::unordered_map<std::uint64_t, HeightSpan> columns_;
+  // The deck columns' keys (grid_keys::column_key) and, at each one's
+  // index, its height span.
+  FlatKeyIndex column_index_;
+  std::vector<HeightSpan> spans_;
 };
 
 // One scan on its own: RampDeckMemory(settings).label_side_faces(points).

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/semantic/grid_keys.hpp"
 #include "engine/semantic/rules/class_move.hpp"
 #include "engine/semantic/rules/finite_points.hpp"
@@ -72,38 +72,47 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     std::int8_t verdict = -1;  // -1 unjudged, 0 box-sized, 1 wall
     bool holds_other = false;
   };
-  std::unordered_map<std::uint64_t, ColumnState> columns;
+  // The columns' keys and, at each one's index, its state.
+  FlatKeyIndex column_index;
+  std::vector<ColumnState> columns;
+  // Each point's column (kAbsent where it has none), for the last pass.
+  std::vector<std::uint32_t> column_of(points.size(), FlatKeyIndex::kAbsent);
   for (std::size_t p = 0; p < points.size(); ++p) {
     if ((labels[p] != other && labels[p] != wall) || !in_reach(xs[p], ys[p])) continue;
-    ColumnState& column = columns[grid_keys::column_key_of(xs[p], ys[p], inv)];
-    column.holds_other = column.holds_other || labels[p] == other;
+    const std::uint32_t c = column_index.find_or_insert(grid_keys::column_key_of(xs[p], ys[p], inv));
+    if (c == columns.size()) columns.emplace_back();
+    columns[c].holds_other = columns[c].holds_other || labels[p] == other;
+    column_of[p] = c;
   }
+  // Patches are the 8-connected components of the columns, so the order
+  // they are walked in changes none of them.
   std::vector<Column> patch;
-  std::vector<std::uint64_t> keys;
+  std::vector<std::uint32_t> members;
   std::size_t wall_columns = 0;
-  for (auto& [start, state] : columns) {
-    if (state.verdict >= 0) continue;
-    patch.clear(), keys.clear();
-    state.verdict = 0;
-    keys.push_back(start);
-    bool holds_other = state.holds_other;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      const std::int64_t cx = grid_keys::column_x(keys[i]), cy = grid_keys::column_y(keys[i]);
+  for (std::uint32_t start = 0; start < columns.size(); ++start) {
+    if (columns[start].verdict >= 0) continue;
+    patch.clear(), members.clear();
+    columns[start].verdict = 0;
+    members.push_back(start);
+    bool holds_other = columns[start].holds_other;
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      const std::uint64_t key = column_index.keys()[members[i]];
+      const std::int64_t cx = grid_keys::column_x(key), cy = grid_keys::column_y(key);
       patch.push_back({cx, cy});
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const auto it = columns.find(grid_keys::column_key(cx + dx, cy + dy));
-          if (it == columns.end() || it->second.verdict >= 0) continue;
-          it->second.verdict = 0;
-          holds_other = holds_other || it->second.holds_other;
-          keys.push_back(it->first);
+          const std::uint32_t c = column_index.find(grid_keys::column_key(cx + dx, cy + dy));
+          if (c == FlatKeyIndex::kAbsent || columns[c].verdict >= 0) continue;
+          columns[c].verdict = 0;
+          holds_other = holds_other || columns[c].holds_other;
+          members.push_back(c);
         }
       }
     }
     // A patch of wall labels alone has nothing to change.
     if (holds_other && principal_extent(patch) * s.column >= s.min_length) {
-      for (std::uint64_t k : keys) columns[k].verdict = 1;
-      wall_columns += keys.size();
+      for (const std::uint32_t c : members) columns[c].verdict = 1;
+      wall_columns += members.size();
     }
   }
   if (wall_columns == 0) return 0;
@@ -111,8 +120,8 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   ClassMove to_wall(points, ClassId::Other, ClassId::Wall);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
-    if (labels[p] != other || !in_reach(xs[p], ys[p])) continue;
-    if (columns.find(grid_keys::column_key_of(xs[p], ys[p], inv))->second.verdict != 1) continue;
+    if (labels[p] != other || column_of[p] == FlatKeyIndex::kAbsent) continue;
+    if (columns[column_of[p]].verdict != 1) continue;
     to_wall.apply(p);
     ++changed;
   }

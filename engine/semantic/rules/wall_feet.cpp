@@ -3,10 +3,11 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
+#include <vector>
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/core/flat_key_index.hpp"
 #include "engine/semantic/grid_keys.hpp"
 #include "engine/semantic/rules/class_move.hpp"
 #include "engine/semantic/rules/finite_points.hpp"
@@ -47,12 +48,15 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
 
-  std::unordered_map<std::uint64_t, FloorSum> floor;
+  // The floor's columns: their index, and each one's sum at that index.
+  FlatKeyIndex floor_columns;
+  std::vector<FloorSum> floor;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != terrain || !in_reach(xs[p], ys[p])) continue;
-    FloorSum& sum = floor[grid_keys::column_key_of(xs[p], ys[p], inv)];
-    ++sum.points;
-    sum.height_sum += zs[p];
+    const std::uint32_t c = floor_columns.find_or_insert(grid_keys::column_key_of(xs[p], ys[p], inv));
+    if (c == floor.size()) floor.emplace_back();
+    ++floor[c].points;
+    floor[c].height_sum += zs[p];
   }
   if (floor.empty()) return 0;
 
@@ -70,10 +74,10 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
       around = {};
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const auto it = floor.find(grid_keys::column_key(cx + dx, cy + dy));
-          if (it == floor.end()) continue;
-          around.points += it->second.points;
-          around.height_sum += it->second.height_sum;
+          const std::uint32_t c = floor_columns.find(grid_keys::column_key(cx + dx, cy + dy));
+          if (c == FlatKeyIndex::kAbsent) continue;
+          around.points += floor[c].points;
+          around.height_sum += floor[c].height_sum;
         }
       }
       last_cx = cx, last_cy = cy, summed = true;
