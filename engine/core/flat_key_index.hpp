@@ -2,7 +2,8 @@
 // insertion order: the metric integrator's per-scan scratch (end-voxel
 // dedupe, the blocks a thread's rays touch), the segment map's voxel index,
 // the metric map's index of its pooled blocks (block_map.hpp), the labelled
-// point map's cells and the Mapper's kept-point voxels.
+// point map's cells, the Mapper's kept-point voxels, and the grid columns and
+// cells of the label rules and the surface normals.
 // Hand-written because it sits in the ray loop and
 // bench/metric/key_table_bench.cpp measures it against std::unordered_map and
 // tbb::concurrent_hash_map on the same look-up stream. Linear probing, so an
