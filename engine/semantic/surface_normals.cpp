@@ -8,7 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/core/error.hpp"
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_map.hpp"
 #include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
@@ -97,8 +97,8 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
   constexpr std::uint32_t kNoCell = ~std::uint32_t{0};
   std::vector<std::uint32_t> cell_of(n, kNoCell);
   std::vector<std::array<std::int64_t, 3>> cell_coords;
-  std::vector<CellSums> sums;
-  FlatKeyIndex cell_index(n / 16);
+  FlatKeyMap<CellSums> cells(n / 16);
+  std::vector<CellSums>& sums = cells.values();
   // Neighbouring points (a depth image's row, a ring) mostly share a cell:
   // the last cell's index is taken without a hash lookup.
   std::uint64_t last_key = 0;
@@ -115,11 +115,9 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     const std::uint64_t key = grid_keys::cell_key(c[0], c[1], c[2]);
     if (last_cell == kNoCell || key != last_key) {
       last_key = key;
-      last_cell = cell_index.find_or_insert(key);
-      if (last_cell == sums.size()) {  // a new cell
-        sums.emplace_back();
-        cell_coords.push_back(c);
-      }
+      const auto [cell, is_new] = cells.try_emplace(key);
+      last_cell = cell;
+      if (is_new) cell_coords.push_back(c);
     }
     sums[last_cell].add(x - rx, y - ry, z - rz);
     cell_of[p] = last_cell;
@@ -136,8 +134,9 @@ SurfaceNormals estimate_surface_normals(const PointBuffer& points, const Surface
     for (int di = -1; di <= 1; ++di)
       for (int dj = -1; dj <= 1; ++dj)
         for (int dk = -1; dk <= 1; ++dk) {
-          const std::uint32_t other = cell_index.find(grid_keys::cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk));
-          if (other != FlatKeyIndex::kAbsent) pooled.add(sums[other]);
+          if (const CellSums* other = cells.find(grid_keys::cell_key(cc[0] + di, cc[1] + dj, cc[2] + dk))) {
+            pooled.add(*other);
+          }
         }
     PlaneFit fit = fit_plane(pooled, settings.min_points);
     if (!fit.valid || fit.curvature > settings.max_curvature) {

@@ -8,7 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_map.hpp"
 #include "engine/topo/spanning_forest.hpp"
 
 namespace sarmap::topo {
@@ -103,15 +103,13 @@ GroundProfile TopoMap::check_drive(const Eigen::Vector3d& from, const Eigen::Vec
 void TopoMap::connect() {
   // Candidate pairs: alive nodes within the edge radius, found through cells of that size.
   const double r = settings_.edge_radius;
-  FlatKeyIndex cells(nodes_.size() + 16);
-  std::vector<std::vector<std::uint32_t>> members;
+  // Each cell's alive nodes.
+  FlatKeyMap<std::vector<std::uint32_t>> cells(nodes_.size() + 16);
   auto cell_of = [r](double v) { return static_cast<std::int64_t>(std::floor(v / r)); };
   for (const TopoNode& node : nodes_) {
     if (!node.alive) continue;
-    const std::uint32_t c = cells.find_or_insert(
-        cell_key(cell_of(node.position.x()), cell_of(node.position.y()), cell_of(node.position.z())));
-    if (c == members.size()) members.emplace_back();
-    members[c].push_back(node.id);
+    cells[cell_key(cell_of(node.position.x()), cell_of(node.position.y()), cell_of(node.position.z()))]
+        .push_back(node.id);
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (const TopoNode& node : nodes_) {
@@ -120,10 +118,10 @@ void TopoMap::connect() {
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const std::uint32_t c =
+          const std::vector<std::uint32_t>* members =
               cells.find(cell_key(cell_of(p.x()) + dx, cell_of(p.y()) + dy, cell_of(p.z()) + dz));
-          if (c == FlatKeyIndex::kAbsent) continue;
-          for (std::uint32_t other : members[c]) {
+          if (members == nullptr) continue;
+          for (std::uint32_t other : *members) {
             if (other > node.id && (nodes_[other].position - p).norm() <= r) pairs.emplace_back(node.id, other);
           }
         }

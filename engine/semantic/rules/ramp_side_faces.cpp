@@ -52,12 +52,12 @@ void RampDeckMemory::remember_decks(const PointBuffer& points) {
         !(normals.curvature[p] <= settings_.deck_max_curvature) || !in_reach(xs[p], ys[p])) {
       continue;
     }
-    const std::uint32_t c = column_index_.find_or_insert(grid_keys::column_key_of(xs[p], ys[p], inv));
-    if (c == spans_.size()) {
-      spans_.push_back(HeightSpan{zs[p], zs[p]});
-    } else {
-      spans_[c].low = std::min(spans_[c].low, zs[p]);
-      spans_[c].high = std::max(spans_[c].high, zs[p]);
+    const auto [c, is_new] =
+        decks_.try_emplace(grid_keys::column_key_of(xs[p], ys[p], inv), HeightSpan{zs[p], zs[p]});
+    if (!is_new) {
+      HeightSpan& span = decks_.values()[c];
+      span.low = std::min(span.low, zs[p]);
+      span.high = std::max(span.high, zs[p]);
     }
   }
 }
@@ -66,8 +66,9 @@ RampDeckMemory::DecksAround RampDeckMemory::decks_around(std::int64_t cx, std::i
   DecksAround around;
   for (std::int64_t dx = -1; dx <= 1; ++dx) {
     for (std::int64_t dy = -1; dy <= 1; ++dy) {
-      const std::uint32_t c = column_index_.find(grid_keys::column_key(cx + dx, cy + dy));
-      if (c != FlatKeyIndex::kAbsent) around.spans[around.count++] = spans_[c];
+      if (const HeightSpan* span = decks_.find(grid_keys::column_key(cx + dx, cy + dy))) {
+        around.spans[around.count++] = *span;
+      }
     }
   }
   return around;
@@ -94,7 +95,7 @@ std::size_t RampDeckMemory::label_side_faces(PointBuffer& points) {
 std::size_t RampDeckMemory::label_under_known_decks(PointBuffer& points) const {
   if (!settings_.enabled || !points.has_labels()) return 0;
   require_finite_points(points, "ramp side faces");
-  if (spans_.empty()) return 0;
+  if (decks_.empty()) return 0;
   const auto xs = points.x(), ys = points.y(), zs = points.z();
   const auto wall = static_cast<std::uint8_t>(ClassId::Wall), other = static_cast<std::uint8_t>(ClassId::Other);
   const auto labels = points.labels();
@@ -131,8 +132,8 @@ void RampDeckMemory::save_state(StateWriter& out) const {
   out.put(settings_.radius);  // the columns' size
   // Sorted, so that one state always gives the same bytes.
   std::vector<std::pair<std::uint64_t, HeightSpan>> columns;
-  columns.reserve(spans_.size());
-  for (std::size_t c = 0; c < spans_.size(); ++c) columns.emplace_back(column_index_.keys()[c], spans_[c]);
+  columns.reserve(decks_.size());
+  for (std::size_t c = 0; c < decks_.size(); ++c) columns.emplace_back(decks_.keys()[c], decks_.values()[c]);
   std::sort(columns.begin(), columns.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   out.put<std::uint64_t>(columns.size());
   for (const auto& [key, span] : columns) {
@@ -145,20 +146,14 @@ void RampDeckMemory::load_state(StateReader& in) {
   in.expect_tag("DECK");
   if (in.get<double>() != settings_.radius) in.fail("the saved ramp decks use another column size");
   const std::size_t n = in.get_count(16);
-  FlatKeyIndex index(n);
-  std::vector<HeightSpan> spans;
-  spans.reserve(n);
+  FlatKeyMap<HeightSpan> decks(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto key = in.get<std::uint64_t>();
     HeightSpan span;
     span.low = in.get<float>(), span.high = in.get<float>();
-    // A key saved twice keeps its last span, as a map assigned in turn would.
-    const std::uint32_t c = index.find_or_insert(key);
-    if (c == spans.size()) spans.push_back(span);
-    else spans[c] = span;
+    decks[key] = span;  // a key saved twice keeps its last span
   }
-  column_index_ = std::move(index);
-  spans_ = std::move(spans);
+  decks_ = std::move(decks);
 }
 
 }  // namespace sarmap

@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_map.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/state_stream.hpp"
 
@@ -68,12 +68,9 @@ class RampDeckMemory {
   std::size_t label_under_known_decks(PointBuffer& points) const;
 
   // Forgets every deck (a new sequence).
-  void clear() {
-    column_index_.clear();
-    spans_.clear();
-  }
+  void clear() { decks_.clear(); }
   // Grid columns holding deck.
-  std::size_t columns() const { return spans_.size(); }
+  std::size_t columns() const { return decks_.size(); }
 
   // The decks seen so far, for a checkpoint (engine/core/state_stream.hpp).
   void save_state(StateWriter& out) const;
@@ -95,10 +92,8 @@ class RampDeckMemory {
   bool under_a_deck(const DecksAround& decks, double z) const;
 
   RampSideSettings settings_;
-  // The deck columns' keys (grid_keys::column_key) and, at each one's
-  // index, its height span.
-  FlatKeyIndex column_index_;
-  std::vector<HeightSpan> spans_;
+  // Each deck column's height span, by its key (grid_keys::column_key).
+  FlatKeyMap<HeightSpan> decks_;
 };
 
 // One scan on its own: RampDeckMemory(settings).label_side_faces(points).

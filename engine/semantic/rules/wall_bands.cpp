@@ -8,7 +8,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_map.hpp"
 #include "engine/semantic/grid_keys.hpp"
 #include "engine/semantic/rules/class_move.hpp"
 #include "engine/semantic/rules/finite_points.hpp"
@@ -72,15 +72,13 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     std::int8_t verdict = -1;  // -1 unjudged, 0 box-sized, 1 wall
     bool holds_other = false;
   };
-  // The columns' keys and, at each one's index, its state.
-  FlatKeyIndex column_index;
-  std::vector<ColumnState> columns;
-  // Each point's column (kAbsent where it has none), for the last pass.
+  FlatKeyMap<ColumnState> column_states;
+  std::vector<ColumnState>& columns = column_states.values();
+  // Each point's column index (kAbsent where it has none), for the last pass.
   std::vector<std::uint32_t> column_of(points.size(), FlatKeyIndex::kAbsent);
   for (std::size_t p = 0; p < points.size(); ++p) {
     if ((labels[p] != other && labels[p] != wall) || !in_reach(xs[p], ys[p])) continue;
-    const std::uint32_t c = column_index.find_or_insert(grid_keys::column_key_of(xs[p], ys[p], inv));
-    if (c == columns.size()) columns.emplace_back();
+    const std::uint32_t c = column_states.try_emplace(grid_keys::column_key_of(xs[p], ys[p], inv)).index;
     columns[c].holds_other = columns[c].holds_other || labels[p] == other;
     column_of[p] = c;
   }
@@ -96,12 +94,12 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     members.push_back(start);
     bool holds_other = columns[start].holds_other;
     for (std::size_t i = 0; i < members.size(); ++i) {
-      const std::uint64_t key = column_index.keys()[members[i]];
+      const std::uint64_t key = column_states.keys()[members[i]];
       const std::int64_t cx = grid_keys::column_x(key), cy = grid_keys::column_y(key);
       patch.push_back({cx, cy});
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const std::uint32_t c = column_index.find(grid_keys::column_key(cx + dx, cy + dy));
+          const std::uint32_t c = column_states.index_of(grid_keys::column_key(cx + dx, cy + dy));
           if (c == FlatKeyIndex::kAbsent || columns[c].verdict >= 0) continue;
           columns[c].verdict = 0;
           holds_other = holds_other || columns[c].holds_other;

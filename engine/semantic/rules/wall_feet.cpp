@@ -7,7 +7,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_map.hpp"
 #include "engine/semantic/grid_keys.hpp"
 #include "engine/semantic/rules/class_move.hpp"
 #include "engine/semantic/rules/finite_points.hpp"
@@ -48,15 +48,13 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
 
-  // The floor's columns: their index, and each one's sum at that index.
-  FlatKeyIndex floor_columns;
-  std::vector<FloorSum> floor;
+  // The floor's columns, each with its sum.
+  FlatKeyMap<FloorSum> floor;
   for (std::size_t p = 0; p < points.size(); ++p) {
     if (labels[p] != terrain || !in_reach(xs[p], ys[p])) continue;
-    const std::uint32_t c = floor_columns.find_or_insert(grid_keys::column_key_of(xs[p], ys[p], inv));
-    if (c == floor.size()) floor.emplace_back();
-    ++floor[c].points;
-    floor[c].height_sum += zs[p];
+    FloorSum& column = floor[grid_keys::column_key_of(xs[p], ys[p], inv)];
+    ++column.points;
+    column.height_sum += zs[p];
   }
   if (floor.empty()) return 0;
 
@@ -74,10 +72,10 @@ std::size_t label_wall_feet(PointBuffer& points, const WallFootSettings& s) {
       around = {};
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          const std::uint32_t c = floor_columns.find(grid_keys::column_key(cx + dx, cy + dy));
-          if (c == FlatKeyIndex::kAbsent) continue;
-          around.points += floor[c].points;
-          around.height_sum += floor[c].height_sum;
+          const FloorSum* column = floor.find(grid_keys::column_key(cx + dx, cy + dy));
+          if (column == nullptr) continue;
+          around.points += column->points;
+          around.height_sum += column->height_sum;
         }
       }
       last_cx = cx, last_cy = cy, summed = true;
