@@ -37,6 +37,8 @@ class LabelledVoxels {
   std::optional<std::uint64_t> key_of(const Eigen::Vector3d& p) const;
   // The point of a voxel, or nullopt.
   std::optional<std::uint32_t> find(std::uint64_t key) const;
+  // A hint that find(key) follows soon (FlatKeyIndex::prefetch).
+  void prefetch(std::uint64_t key) const { index_.prefetch(key); }
   // Adds a point to an empty voxel; returns its index.
   std::uint32_t add(std::uint64_t key, const Eigen::Vector3d& p, ClassId label, float range, std::uint32_t scan);
   // Counts one more label in the voxel; returns the class holding the most

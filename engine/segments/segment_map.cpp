@@ -106,37 +106,51 @@ SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vect
   std::vector<float> ranges(n);
   const double max_range = settings_.max_range;
   const auto labels = points.labels();
+  // Points whose voxels are prefetched before they are looked up: the
+  // voxel table outgrows the caches, and a batch's misses then overlap.
+  constexpr std::size_t kLookupBatch = 32;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
     // Neighbouring pixels often share a voxel: one look-up serves the run.
     std::uint64_t last_key = ~std::uint64_t{0};
     std::uint32_t last_found = FlatKeyIndex::kAbsent;
-    for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      const auto label = class_from_value(labels[i]);
-      if (!label || *label == ClassId::Unknown) continue;
-      const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
-      if (!p.allFinite()) {
-        verdict[i] = kNonFinite;
-        continue;
+    for (std::size_t first = r.begin(); first < r.end(); first += kLookupBatch) {
+      const std::size_t end = std::min(r.end(), first + kLookupBatch);
+      std::uint64_t prefetched = ~std::uint64_t{0};
+      for (std::size_t i = first; i < end; ++i) {
+        const auto label = class_from_value(labels[i]);
+        if (!label || *label == ClassId::Unknown) continue;
+        const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+        if (!p.allFinite()) {
+          verdict[i] = kNonFinite;
+          continue;
+        }
+        const double distance = (p - origin).norm();
+        ranges[i] = static_cast<float>(distance);
+        if (max_range > 0 && distance > max_range) {
+          verdict[i] = kFar;
+          continue;
+        }
+        const std::optional<std::uint64_t> key = voxels_.key_of(p);
+        if (!key) {
+          verdict[i] = kBeyondReach;
+          continue;
+        }
+        keys[i] = *key;
+        verdict[i] = kLookedUp;
+        if (*key != prefetched) {
+          prefetched = *key;
+          voxels_.prefetch(*key);
+        }
       }
-      const double distance = (p - origin).norm();
-      ranges[i] = static_cast<float>(distance);
-      if (max_range > 0 && distance > max_range) {
-        verdict[i] = kFar;
-        continue;
+      for (std::size_t i = first; i < end; ++i) {
+        if (verdict[i] != kLookedUp) continue;
+        if (keys[i] != last_key) {
+          last_key = keys[i];
+          const auto stored = voxels_.find(keys[i]);
+          last_found = stored ? *stored : FlatKeyIndex::kAbsent;
+        }
+        found[i] = last_found;
       }
-      const std::optional<std::uint64_t> key = voxels_.key_of(p);
-      if (!key) {
-        verdict[i] = kBeyondReach;
-        continue;
-      }
-      keys[i] = *key;
-      verdict[i] = kLookedUp;
-      if (*key != last_key) {
-        last_key = *key;
-        const auto stored = voxels_.find(*key);
-        last_found = stored ? *stored : FlatKeyIndex::kAbsent;
-      }
-      found[i] = last_found;
     }
   });
   for (std::size_t i = 0; i < n; ++i) {
