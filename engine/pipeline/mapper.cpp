@@ -312,14 +312,29 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
   // which the first of them has already put in the index.
   std::uint64_t last_key = 0;
   bool looked_up = false;
-  for (std::uint32_t i = 0; i < points.size(); ++i) {
-    const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
-    if (!metric::within_map_limits(x, y, z)) continue;
-    if (skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown)) continue;
-    const std::uint64_t key = metric::pack(metric::key_of(x, y, z, inv));
-    if (looked_up && key == last_key) continue;
-    last_key = key, looked_up = true;
-    if (semantic_keys_.find_or_insert(key) == keep_before + keep.size()) keep.push_back(i);  // a new voxel
+  // The voxels of a batch of points are prefetched before they are looked
+  // up: the voxel table outgrows the caches, and the misses then overlap.
+  constexpr std::uint32_t kBatch = 32;
+  std::uint64_t keys[kBatch];
+  bool wanted[kBatch];
+  const auto n = static_cast<std::uint32_t>(points.size());
+  for (std::uint32_t first = 0; first < n; first += kBatch) {
+    const std::uint32_t count = std::min(kBatch, n - first);
+    for (std::uint32_t j = 0; j < count; ++j) {
+      const std::uint32_t i = first + j;
+      const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+      wanted[j] = metric::within_map_limits(x, y, z) &&
+                  !(skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown));
+      if (!wanted[j]) continue;
+      keys[j] = metric::pack(metric::key_of(x, y, z, inv));
+      semantic_keys_.prefetch(keys[j]);
+    }
+    for (std::uint32_t j = 0; j < count; ++j) {
+      if (!wanted[j] || (looked_up && keys[j] == last_key)) continue;
+      last_key = keys[j], looked_up = true;
+      if (semantic_keys_.find_or_insert(keys[j]) == keep_before + keep.size())
+        keep.push_back(first + j);  // new
+    }
   }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);

@@ -36,27 +36,41 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
   // a cell: the last cell's point is taken without a hash lookup.
   std::uint64_t last_key = 0;
   std::uint32_t last_point = kNoPoint;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
-    if (!in_reach(x, y, z)) continue;
-    const std::uint64_t key = cell_key(x, y, z);
-    if (last_point != kNoPoint && key == last_key) {
-      of_point[i] = last_point;
-      continue;
+  // The cells of a batch of points are prefetched before they are looked
+  // up: the cell table outgrows the caches, and the misses then overlap.
+  constexpr std::size_t kBatch = 32;
+  std::uint64_t keys[kBatch];
+  bool reached[kBatch];
+  for (std::size_t first = 0; first < scan.size(); first += kBatch) {
+    const std::size_t count = std::min(kBatch, scan.size() - first);
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t i = first + j;
+      const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
+      reached[j] = in_reach(x, y, z);
+      if (!reached[j]) continue;
+      keys[j] = cell_key(x, y, z);
+      index_.prefetch(keys[j]);
     }
-    const std::uint32_t p = index_.find_or_insert(key);
-    last_key = key, last_point = p;
-    if (p == points_.size()) {  // a new cell
-      points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
-      if (points_.has_colors()) {
-        const std::size_t p = points_.size() - 1;
-        points_.red()[p] = colours ? scan.red()[i] : 0;
-        points_.green()[p] = colours ? scan.green()[i] : 0;
-        points_.blue()[p] = colours ? scan.blue()[i] : 0;
+    for (std::size_t j = 0; j < count; ++j) {
+      if (!reached[j]) continue;
+      const std::size_t i = first + j;
+      if (last_point != kNoPoint && keys[j] == last_key) {
+        of_point[i] = last_point;
+        continue;
       }
-      added.push_back(p);
+      const std::uint32_t p = index_.find_or_insert(keys[j]);
+      last_key = keys[j], last_point = p;
+      if (p == points_.size()) {  // a new cell
+        points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
+        if (points_.has_colors()) {
+          points_.red()[p] = colours ? scan.red()[i] : 0;
+          points_.green()[p] = colours ? scan.green()[i] : 0;
+          points_.blue()[p] = colours ? scan.blue()[i] : 0;
+        }
+        added.push_back(p);
+      }
+      of_point[i] = p;
     }
-    of_point[i] = p;
   }
   sums_.resize(points_.size() * classes_, 0);
   hits_.resize(points_.size(), 0);
