@@ -2,8 +2,9 @@
 // insertion order: the metric integrator's per-scan scratch (end-voxel
 // dedupe, the blocks a thread's rays touch), the segment map's voxel index,
 // the metric map's index of its pooled blocks (block_map.hpp), the labelled
-// point map's cells, the Mapper's kept-point voxels, and the grid columns and
-// cells of the label rules and the surface normals.
+// point map's cells, the Mapper's kept-point voxels, and through FlatKeyMap
+// (flat_key_map.hpp) the grid tables of the label rules, the surface normals
+// and the topological map.
 // Hand-written because it sits in the ray loop and
 // bench/metric/key_table_bench.cpp measures it against std::unordered_map and
 // tbb::concurrent_hash_map on the same look-up stream. Linear probing, so an
