@@ -72,6 +72,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
     std::int8_t verdict = -1;  // -1 unjudged, 0 box-sized, 1 wall
     bool holds_other = false;
   };
+  // Each column's state, by its index in the table.
   FlatKeyMap<ColumnState> column_states;
   std::vector<ColumnState>& columns = column_states.values();
   // Each point's column index (kAbsent where it has none), for the last pass.
