@@ -64,8 +64,9 @@ class FlatKeyIndex {
   }
   // Starts loading key's home slot into the cache and returns at once. A
   // loop that looks up keys scattered over a large table prefetches a batch
-  // of them before finding them, so that their cache misses overlap instead
-  // of waiting one after another. Only a hint: it changes nothing.
+  // of them before finding them (walk_keys_prefetched), so that their
+  // cache misses overlap instead of waiting one after another. Only a hint:
+  // it changes nothing.
   void prefetch(std::uint64_t key) const { __builtin_prefetch(&slots_[mix_key(key) & mask_]); }
   // Index of key, or kAbsent.
   std::uint32_t find(std::uint64_t key) const {

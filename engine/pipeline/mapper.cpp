@@ -11,6 +11,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/core/prefetched_key_walk.hpp"
 #include "engine/metric/voxel_key.hpp"
 #include "engine/pipeline/voxel_classes_from_point_map.hpp"
 
@@ -308,34 +309,20 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
   const bool skip_unknown = classifier_->labels_arrive_late() && points.has_labels();
   std::vector<std::uint32_t> keep;
   const std::size_t keep_before = semantic_keys_.size();
-  // Neighbouring points (a depth image's row, a ring) mostly share a voxel,
-  // which the first of them has already put in the index.
-  std::uint64_t last_key = 0;
-  bool looked_up = false;
-  // The voxels of a batch of points are prefetched before they are looked
-  // up: the voxel table outgrows the caches, and the misses then overlap.
-  constexpr std::uint32_t kBatch = 32;
-  std::uint64_t keys[kBatch];
-  bool wanted[kBatch];
-  const auto n = static_cast<std::uint32_t>(points.size());
-  for (std::uint32_t first = 0; first < n; first += kBatch) {
-    const std::uint32_t count = std::min(kBatch, n - first);
-    for (std::uint32_t j = 0; j < count; ++j) {
-      const std::uint32_t i = first + j;
-      const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
-      wanted[j] = metric::within_map_limits(x, y, z) &&
-                  !(skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown));
-      if (!wanted[j]) continue;
-      keys[j] = metric::pack(metric::key_of(x, y, z, inv));
-      semantic_keys_.prefetch(keys[j]);
+  const auto voxel_key = [&](std::size_t i, std::uint64_t& key) {
+    const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+    if (!metric::within_map_limits(x, y, z)) return false;
+    if (skip_unknown && points.labels()[i] == static_cast<std::uint8_t>(ClassId::Unknown)) return false;
+    key = metric::pack(metric::key_of(x, y, z, inv));
+    return true;
+  };
+  // A point is kept when it is the first in its voxel.
+  const auto keep_if_new = [&](std::size_t i, std::uint64_t key, bool repeat) {
+    if (!repeat && semantic_keys_.find_or_insert(key) == keep_before + keep.size()) {
+      keep.push_back(static_cast<std::uint32_t>(i));
     }
-    for (std::uint32_t j = 0; j < count; ++j) {
-      if (!wanted[j] || (looked_up && keys[j] == last_key)) continue;
-      last_key = keys[j], looked_up = true;
-      if (semantic_keys_.find_or_insert(keys[j]) == keep_before + keep.size())
-        keep.push_back(first + j);  // new
-    }
-  }
+  };
+  walk_keys_prefetched(semantic_keys_, 0, points.size(), voxel_key, keep_if_new);
   // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);
   PointBuffer slim;

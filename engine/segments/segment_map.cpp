@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -12,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/core/error.hpp"
+#include "engine/core/prefetched_key_walk.hpp"
 #include "engine/segments/plane_extraction.hpp"
 #include "engine/segments/plane_moments.hpp"
 #include "engine/segments/plane_rectangle.hpp"
@@ -106,53 +108,43 @@ SegmentUpdate SegmentMap::integrate(const PointBuffer& points, const Eigen::Vect
   std::vector<float> ranges(n);
   const double max_range = settings_.max_range;
   const auto labels = points.labels();
-  // Points whose voxels are prefetched before they are looked up: the
-  // voxel table outgrows the caches, and a batch's misses then overlap.
-  constexpr std::size_t kLookupBatch = 32;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-    // Neighbouring pixels often share a voxel: one look-up serves the run.
-    std::uint64_t last_key = ~std::uint64_t{0};
-    std::uint32_t last_found = FlatKeyIndex::kAbsent;
-    for (std::size_t first = r.begin(); first < r.end(); first += kLookupBatch) {
-      const std::size_t end = std::min(r.end(), first + kLookupBatch);
-      std::uint64_t prefetched = ~std::uint64_t{0};
-      for (std::size_t i = first; i < end; ++i) {
-        const auto label = class_from_value(labels[i]);
-        if (!label || *label == ClassId::Unknown) continue;
-        const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
-        if (!p.allFinite()) {
-          verdict[i] = kNonFinite;
-          continue;
-        }
-        const double distance = (p - origin).norm();
-        ranges[i] = static_cast<float>(distance);
-        if (max_range > 0 && distance > max_range) {
-          verdict[i] = kFar;
-          continue;
-        }
-        const std::optional<std::uint64_t> key = voxels_.key_of(p);
-        if (!key) {
-          verdict[i] = kBeyondReach;
-          continue;
-        }
-        keys[i] = *key;
-        verdict[i] = kLookedUp;
-        if (*key != prefetched) {
-          prefetched = *key;
-          voxels_.prefetch(*key);
-        }
-      }
-      for (std::size_t i = first; i < end; ++i) {
-        if (verdict[i] != kLookedUp) continue;
-        if (keys[i] != last_key) {
-          last_key = keys[i];
-          const auto stored = voxels_.find(keys[i]);
-          last_found = stored ? *stored : FlatKeyIndex::kAbsent;
-        }
-        found[i] = last_found;
-      }
+  // A point's verdict and range, and its voxel's key where it has one.
+  const auto voxel_key = [&](std::size_t i, std::uint64_t& key) {
+    const auto label = class_from_value(labels[i]);
+    if (!label || *label == ClassId::Unknown) return false;
+    const Eigen::Vector3d p(points.x()[i], points.y()[i], points.z()[i]);
+    if (!p.allFinite()) {
+      verdict[i] = kNonFinite;
+      return false;
     }
-  });
+    const double distance = (p - origin).norm();
+    ranges[i] = static_cast<float>(distance);
+    if (max_range > 0 && distance > max_range) {
+      verdict[i] = kFar;
+      return false;
+    }
+    const std::optional<std::uint64_t> found_key = voxels_.key_of(p);
+    if (!found_key) {
+      verdict[i] = kBeyondReach;
+      return false;
+    }
+    key = keys[i] = *found_key;
+    verdict[i] = kLookedUp;
+    return true;
+  };
+  // Each range of points with its own last look-up, for the repeats.
+  const auto look_up_range = [&](const tbb::blocked_range<std::size_t>& r) {
+    std::uint32_t last_found = FlatKeyIndex::kAbsent;
+    const auto look_up = [&](std::size_t i, std::uint64_t key, bool repeat) {
+      if (!repeat) {
+        const auto stored = voxels_.find(key);
+        last_found = stored ? *stored : FlatKeyIndex::kAbsent;
+      }
+      found[i] = last_found;
+    };
+    walk_keys_prefetched(voxels_, r.begin(), r.end(), voxel_key, look_up);
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), look_up_range);
   for (std::size_t i = 0; i < n; ++i) {
     if (verdict[i] == kNonFinite) {
       throw Error(ErrorCode::InvalidArgument, "segments: point " + std::to_string(i) + " is not finite");

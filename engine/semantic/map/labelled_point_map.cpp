@@ -6,6 +6,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/core/metres_text.hpp"
+#include "engine/core/prefetched_key_walk.hpp"
 #include "engine/semantic/grid_keys.hpp"
 
 namespace sarmap {
@@ -32,35 +33,19 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
   std::vector<std::uint32_t> of_point(scan.size(), kNoPoint);
   const bool colours = scan.has_colors() && (points_.empty() || points_.has_colors());
   if (colours && !points_.has_colors()) points_.enable_colors();
-  // Neighbouring points of a scan (a depth image's row, a ring) often share
-  // a cell: the last cell's point is taken without a hash lookup.
-  std::uint64_t last_key = 0;
   std::uint32_t last_point = kNoPoint;
-  // The cells of a batch of points are prefetched before they are looked
-  // up: the cell table outgrows the caches, and the misses then overlap.
-  constexpr std::size_t kBatch = 32;
-  std::uint64_t keys[kBatch];
-  bool reached[kBatch];
-  for (std::size_t first = 0; first < scan.size(); first += kBatch) {
-    const std::size_t count = std::min(kBatch, scan.size() - first);
-    for (std::size_t j = 0; j < count; ++j) {
-      const std::size_t i = first + j;
-      const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
-      reached[j] = in_reach(x, y, z);
-      if (!reached[j]) continue;
-      keys[j] = cell_key(x, y, z);
-      index_.prefetch(keys[j]);
-    }
-    for (std::size_t j = 0; j < count; ++j) {
-      if (!reached[j]) continue;
-      const std::size_t i = first + j;
-      if (last_point != kNoPoint && keys[j] == last_key) {
-        of_point[i] = last_point;
-        continue;
-      }
-      const std::uint32_t p = index_.find_or_insert(keys[j]);
-      last_key = keys[j], last_point = p;
-      if (p == points_.size()) {  // a new cell
+  const auto reached_cell = [&](std::size_t i, std::uint64_t& key) {
+    const double x = scan.x()[i], y = scan.y()[i], z = scan.z()[i];
+    if (!in_reach(x, y, z)) return false;
+    key = cell_key(x, y, z);
+    return true;
+  };
+  // A repeat falls in the cell of the reached point before it.
+  const auto place = [&](std::size_t i, std::uint64_t key, bool repeat) {
+    if (!repeat) {
+      last_point = index_.find_or_insert(key);
+      if (last_point == points_.size()) {  // a new cell
+        const std::uint32_t p = last_point;
         points_.push_back(scan.x()[i], scan.y()[i], scan.z()[i]);
         if (points_.has_colors()) {
           points_.red()[p] = colours ? scan.red()[i] : 0;
@@ -69,9 +54,10 @@ std::vector<std::uint32_t> LabelledPointMap::insert(const PointBuffer& scan, std
         }
         added.push_back(p);
       }
-      of_point[i] = p;
     }
-  }
+    of_point[i] = last_point;
+  };
+  walk_keys_prefetched(index_, 0, scan.size(), reached_cell, place);
   sums_.resize(points_.size() * classes_, 0);
   hits_.resize(points_.size(), 0);
   return of_point;
