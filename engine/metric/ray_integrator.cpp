@@ -35,7 +35,10 @@ namespace sarmap::metric {
 struct RayIntegrator::Scratch {
   // Three, so that scan k + 1's ends can be found while scan k is walked
   // and scan k - 1 is applied.
-  std::array<ScanRays, 3> rays;
+  std::array<ScanRays, RayIntegrator::kSlots> rays;
+  // Whether a slot holds rays from trace() not yet applied: apply() takes
+  // each scan once, never a failed trace's half or a scan already in.
+  std::array<bool, RayIntegrator::kSlots> traced{};
   ScanUpdate update;
 };
 
@@ -73,15 +76,43 @@ std::size_t RayIntegrator::scratch_bytes() const {
 
 IntegrationStats RayIntegrator::integrate(MetricMap& map, const PointBuffer& points,
                                           const Eigen::Vector3d& origin) {
-  IntegrationStats stats;
-  ScanRays& rays = scratch_->rays[0];
-  rays.compute(settings_, map.resolution(), points, origin, stats);
-  scratch_->update.apply(map, rays, stats);
+  IntegrationStats stats = trace(0, map.resolution(), points, origin);
+  apply(map, 0, stats);
   return stats;
+}
+
+void RayIntegrator::check_slot(std::size_t slot) {
+  if (slot >= kSlots) {
+    throw Error(ErrorCode::InvalidArgument, "ray integrator: slot " + std::to_string(slot) +
+                                                " is not one of its " + std::to_string(kSlots));
+  }
+}
+
+IntegrationStats RayIntegrator::trace(std::size_t slot, double resolution, const PointBuffer& points,
+                                      const Eigen::Vector3d& origin) {
+  Scratch& s = *scratch_;
+  check_slot(slot);
+  s.traced[slot] = false;
+  IntegrationStats stats;
+  s.rays[slot].compute(settings_, resolution, points, origin, stats);
+  s.traced[slot] = true;
+  return stats;
+}
+
+void RayIntegrator::apply(MetricMap& map, std::size_t slot, IntegrationStats& stats) {
+  Scratch& s = *scratch_;
+  check_slot(slot);
+  if (!s.traced[slot]) {
+    throw Error(ErrorCode::InvalidArgument,
+                "ray integrator: slot " + std::to_string(slot) + " holds no traced scan to apply");
+  }
+  s.traced[slot] = false;
+  s.update.apply(map, s.rays[slot], stats);
 }
 
 std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, std::span<const Scan> scans) {
   Scratch& s = *scratch_;
+  s.traced.fill(false);  // every slot's rays are overwritten below
   std::vector<IntegrationStats> stats(scans.size());
   // The arena's threads, as limited by an arena of one or a global_control.
   const std::size_t threads = std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),

@@ -41,6 +41,21 @@ class RayIntegrator {
   // Uses the calling thread's oneTBB arena; not reentrant per integrator.
   IntegrationStats integrate(MetricMap& map, const PointBuffer& points, const Eigen::Vector3d& origin);
 
+  // integrate() in its two halves, for a caller that finds one scan's rays
+  // while the scan before is written into the map (Mapper::integrate_stream):
+  // trace() reads nothing of the map, so it may run beside apply() of
+  // another slot, and apply() writes what trace() found in that slot. Each
+  // slot holds one scan's rays from trace() until its apply(). integrate()
+  // uses slot 0; resolution is the map's (read once by the caller: the map
+  // may be being written). trace() throws as integrate() does; the stats it
+  // returns are completed by apply(). Both throw sarmap::Error
+  // (InvalidArgument) for a slot not below kSlots; apply() too for a slot
+  // that holds no traced scan (never traced, its trace threw, or applied).
+  static constexpr std::size_t kSlots = 3;
+  IntegrationStats trace(std::size_t slot, double resolution, const PointBuffer& points,
+                         const Eigen::Vector3d& origin);
+  void apply(MetricMap& map, std::size_t slot, IntegrationStats& stats);
+
   // Integrates the scans' points from their origins, in order: the same map
   // and per-scan figures as integrate() on each in turn, faster with several
   // threads because three scans are in flight: one scan's rays are walked
@@ -51,6 +66,7 @@ class RayIntegrator {
 
  private:
   struct Scratch;
+  static void check_slot(std::size_t slot);
   IntegratorSettings settings_;
   std::unique_ptr<Scratch> scratch_;
 };

@@ -141,11 +141,19 @@ std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vect
   return number;
 }
 
+metric::IntegrationStats Mapper::trace_rays(const Scan& scan, std::size_t slot, StageProfile& profile) {
+  const auto timer = profile.time("metric");
+  return integrator_.trace(slot, map_.resolution(), scan.points, scan.origin);
+}
+
 void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& profile,
-                       const std::vector<VoxelClassUpdate>& voxel_classes) {
+                       const std::vector<VoxelClassUpdate>& voxel_classes,
+                       std::optional<TracedRays> traced_rays) {
+  if (!traced_rays) traced_rays = TracedRays{0, trace_rays(scan, 0, profile)};
   {
     const auto timer = profile.time("metric");
-    const metric::IntegrationStats s = integrator_.integrate(map_, scan.points, scan.origin);
+    metric::IntegrationStats& s = traced_rays->stats;
+    integrator_.apply(map_, traced_rays->slot, s);
     stats_ += s;
     add_counts(profile, "metric",
                {{"points_in", s.points_in},

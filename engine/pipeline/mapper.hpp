@@ -62,6 +62,13 @@ struct MapperConfig {
   topo::TopoSettings topo;
 };
 
+// A scan's rays traced ahead of its metric stage (RayIntegrator::trace): the
+// integrator's slot that holds them and their figures so far.
+struct TracedRays {
+  std::size_t slot = 0;
+  metric::IntegrationStats stats;
+};
+
 // One scan of a stream (Mapper::integrate_stream), as it reaches the caller
 // again: mapped, or with the error that cost it.
 struct StreamedScan {
@@ -76,6 +83,8 @@ struct StreamedScan {
   std::vector<VoxelClassUpdate> voxel_classes;
   std::uint64_t classify_number = 0;
   double read_start_s = 0;  // steady clock, for its latency
+  // With stages overlapping: its rays, traced while the scan before was being mapped.
+  std::optional<TracedRays> traced_rays;
 };
 
 // What Mapper::merge did, by map.
@@ -111,10 +120,11 @@ class Mapper {
   // scan the Mapper refuses costs that scan. `done` may throw to end the
   // stream (no later scan reaches the maps, but the next one may have been
   // classified: like a stage's error inside integrate(), such a Mapper is
-  // not to be continued). With StageOverlap::On the classify stage of one scan runs while
-  // the metric, segment and topo stages take the one before (a oneTBB
-  // pipeline of three serial filters: read, classify, maps); the
-  // maps, the classifier's state and the profile's counters are those of
+  // not to be continued). With StageOverlap::On the classify stage of one
+  // scan and the tracing of its rays (the metric stage's first half) run
+  // while the metric stage's update, segment and topo stages take the one
+  // before (a oneTBB pipeline of four serial filters: read, classify, trace,
+  // maps); the maps, the classifier's state and the profile's counters are those of
   // StageOverlap::Off. Between calls the Mapper is idle, so a caller reads or saves it there
   // (`sarmap run`'s snapshots and checkpoints end one call and start the next).
   using ScanReader = std::function<bool(std::size_t frame, Scan& scan)>;
@@ -196,8 +206,15 @@ class Mapper {
   // classify (the classifier's state only; returns the scan's number among
   // the classify stages run), then the maps' stages.
   std::uint64_t classify_half(Scan& scan, StageProfile& profile, std::vector<VoxelClassUpdate>& voxel_classes);
+  // `traced_rays` are the scan's rays if trace_rays() found them already;
+  // otherwise the metric stage traces them itself (in the integrator's slot 0).
   void maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& profile,
-                 const std::vector<VoxelClassUpdate>& voxel_classes);
+                 const std::vector<VoxelClassUpdate>& voxel_classes,
+                 std::optional<TracedRays> traced_rays = {});
+  // The metric stage's first half, timed as "metric": the scan's rays into
+  // the integrator's `slot`. It reads nothing of the maps, so a stream runs
+  // it while the scan before is being mapped.
+  metric::IntegrationStats trace_rays(const Scan& scan, std::size_t slot, StageProfile& profile);
   // The classifier's share of the forgetting passes due by `classify_number`.
   void forget_in_classifier(std::uint64_t classify_number, StageProfile& profile);
   void stream_in_order(std::size_t first_frame, const ScanReader& read, const ScanDone& done);

@@ -2,9 +2,12 @@
 // other, or overlapped in a oneTBB pipeline. The classify stage touches only
 // the classifier and its scan, and hands the metric stage what it needs of
 // the classifier (voxel_classes_from_point_map) before the next scan's
-// classification starts; the maps' stages touch only the maps. So the two
-// halves of consecutive scans share no state, and each half still sees the
-// scans in input order: the maps come out as in order.
+// classification starts; the maps' stages touch only the maps. Between them
+// the metric stage's rays are traced (RayIntegrator::trace), which reads
+// nothing of the maps, into the integrator's slot of the scan's place in
+// flight. So consecutive scans in different filters share no state, and
+// each filter still sees the scans in input order: the maps come out as in
+// order.
 #include <chrono>
 #include <mutex>
 #include <vector>
@@ -76,6 +79,7 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
   // flight: each filter is serial and in order, so the tokens visit the
   // slots round robin.
   constexpr std::size_t kInFlight = kClassifierForgetLag;
+  static_assert(kInFlight <= metric::RayIntegrator::kSlots, "a scan in flight traces into its own slot");
   std::vector<StreamedScan> slots(kInFlight);
   std::size_t next_frame = first_frame;
   // oneTBB runs one filter's calls, and one item's filters, in order, but
@@ -124,12 +128,29 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
     }
     return item;
   };
+  // The rays of the next scan are traced while the maps take this one (the
+  // benchmark's sequence overlap, RayIntegrator::integrate_sequence, for
+  // scans that arrive one by one).
+  const auto trace = [&](StreamedScan* item) -> StreamedScan* {
+    const HandOver order(handoff);
+    if (!item->read_failed && !item->error) {
+      tbb::this_task_arena::isolate([&] {
+        try {
+          const auto slot = static_cast<std::size_t>(item - slots.data());
+          item->traced_rays = TracedRays{slot, trace_rays(item->scan, slot, item->profile)};
+        } catch (const Error& e) {
+          item->error = scan_error(item->scan, e);
+        }
+      });
+    }
+    return item;
+  };
   const auto maps = [&](StreamedScan* item) {
     const HandOver order(handoff);
     if (!item->read_failed && !item->error) {
       tbb::this_task_arena::isolate([&] {
         try {
-          maps_half(item->scan, item->classify_number, item->profile, item->voxel_classes);
+          maps_half(item->scan, item->classify_number, item->profile, item->voxel_classes, item->traced_rays);
           item->mapped = true;
           item->profile.set_latency(now_s() - item->read_start_s);
           profile_.append(item->profile);
@@ -140,11 +161,12 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
     }
     done(*item);
   };
-  tbb::parallel_pipeline(kInFlight,
-                         tbb::make_filter<void, StreamedScan*>(tbb::filter_mode::serial_in_order, input) &
-                             tbb::make_filter<StreamedScan*, StreamedScan*>(tbb::filter_mode::serial_in_order,
-                                                                            classify) &
-                             tbb::make_filter<StreamedScan*, void>(tbb::filter_mode::serial_in_order, maps));
+  tbb::parallel_pipeline(
+      kInFlight,
+      tbb::make_filter<void, StreamedScan*>(tbb::filter_mode::serial_in_order, input) &
+          tbb::make_filter<StreamedScan*, StreamedScan*>(tbb::filter_mode::serial_in_order, classify) &
+          tbb::make_filter<StreamedScan*, StreamedScan*>(tbb::filter_mode::serial_in_order, trace) &
+          tbb::make_filter<StreamedScan*, void>(tbb::filter_mode::serial_in_order, maps));
 }
 
 }  // namespace sarmap::pipeline

@@ -1,9 +1,11 @@
-// integrate_sequence(), which walks one scan's rays while the next one's end
-// voxels are found and the one before is written into the map: the same map
-// and per-scan figures as integrate() on each scan in turn, for 1 and 2
-// threads and every scratch path; an error in any scan (the first, the
-// second, one in the middle, the last) leaves exactly the scans before it in
-// the map.
+// The integrator's two ways of overlapping scans. integrate_sequence(),
+// which walks one scan's rays while the next one's end voxels are found and
+// the one before is written into the map: the same map and per-scan figures
+// as integrate() on each scan in turn, for 1 and 2 threads and every scratch
+// path; an error in any scan (the first, the second, one in the middle, the
+// last) leaves exactly the scans before it in the map. And trace() into a
+// slot beside apply() of another (as a stream of scans arriving one by one
+// runs them): the same map and figures, each traced scan applied once.
 #include "engine/metric/ray_integrator.hpp"
 
 #include <gtest/gtest.h>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include "engine/core/error.hpp"
 #include "tests/metric/maps_identical.hpp"
@@ -143,6 +146,74 @@ TEST(RayIntegratorSequence, ErrorInOneScanKeepsExactlyTheScansBeforeIt) {
       }
     }
   }
+}
+
+// Scan k + 1 traced in a task while scan k is applied, slots taking turns,
+// as Mapper::integrate_stream runs them.
+TEST(RayIntegratorTrace, TracingAheadIntoSlotsGivesTheMapOfOneScanAtATime) {
+  const std::vector<Scan> scans = room_scans(7, 96, 72);
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE(::testing::Message() << threads << " threads");
+    tbb::task_arena arena(threads);
+    MetricMap one_by_one(settings_at_resolution(0.05)), traced(settings_at_resolution(0.05));
+    RayIntegrator a, b;
+    std::vector<IntegrationStats> singles, ahead(scans.size());
+    arena.execute([&] {
+      for (const Scan& scan : scans) singles.push_back(a.integrate(one_by_one, scan.points, scan.origin));
+      const double resolution = traced.resolution();
+      ahead[0] = b.trace(0, resolution, scans[0].points, scans[0].origin);
+      for (std::size_t k = 0; k < scans.size(); ++k) {
+        tbb::task_group next;
+        if (k + 1 < scans.size()) {
+          next.run([&, k] {
+            ahead[k + 1] = b.trace((k + 1) % 2, resolution, scans[k + 1].points, scans[k + 1].origin);
+          });
+        }
+        b.apply(traced, k % 2, ahead[k]);
+        next.wait();
+      }
+    });
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+      SCOPED_TRACE(::testing::Message() << "scan " << k);
+      expect_same_stats(singles[k], ahead[k]);
+    }
+    EXPECT_TRUE(maps_identical(one_by_one, traced));
+    EXPECT_GT(traced.counts().occupied, 500u);
+  }
+}
+
+// apply() takes a slot's traced scan once: not a slot never traced, not a
+// scan already applied, not what a trace that threw left behind (even where
+// the slot held a scan before), nor a slot the integrator does not have.
+TEST(RayIntegratorTrace, ApplyTakesEachTracedScanOnce) {
+  std::vector<Scan> scans = room_scans(2, 64, 48);
+  MetricMap map(settings_at_resolution(0.05)), reference(settings_at_resolution(0.05));
+  RayIntegrator integrator, plain;
+  IntegrationStats stats;
+  const auto expect_refused = [&](std::size_t slot, const char* what) {
+    try {
+      integrator.apply(map, slot, stats);
+      ADD_FAILURE() << "applied slot " << slot;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_refused(1, "no traced scan");
+  stats = integrator.trace(1, map.resolution(), scans[0].points, scans[0].origin);
+  integrator.apply(map, 1, stats);
+  plain.integrate(reference, scans[0].points, scans[0].origin);
+  expect_refused(1, "no traced scan");
+
+  stats = integrator.trace(0, map.resolution(), scans[1].points, scans[1].origin);
+  scans[1].points.labels()[10] = 9;  // not a class id
+  EXPECT_THROW(integrator.trace(0, map.resolution(), scans[1].points, scans[1].origin), Error);
+  expect_refused(0, "no traced scan");
+  EXPECT_TRUE(maps_identical(map, reference));
+
+  EXPECT_THROW(integrator.trace(RayIntegrator::kSlots, map.resolution(), scans[0].points, scans[0].origin),
+               Error);
+  expect_refused(RayIntegrator::kSlots, "not one of");
 }
 
 }  // namespace
