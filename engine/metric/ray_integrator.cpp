@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <string>
@@ -39,6 +40,13 @@ struct RayIntegrator::Scratch {
   // Whether a slot holds rays from trace() not yet applied: apply() takes
   // each scan once, never a failed trace's half or a scan already in.
   std::array<bool, RayIntegrator::kSlots> traced{};
+  // Each slot's bytes as its last use left them, so that scratch_bytes()
+  // can run beside a trace() of another slot without reading its buffers.
+  std::array<std::atomic<std::size_t>, RayIntegrator::kSlots> rays_bytes{};
+
+  void count(std::size_t slot) {
+    rays_bytes[slot].store(rays[slot].memory_bytes(), std::memory_order_relaxed);
+  }
   ScanUpdate update;
 };
 
@@ -58,6 +66,7 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
 
 RayIntegrator::RayIntegrator(const IntegratorSettings& settings)
     : settings_(settings), scratch_(std::make_unique<Scratch>()) {
+  for (std::size_t slot = 0; slot < kSlots; ++slot) scratch_->count(slot);
   if (!(settings.max_range >= 0.0) || !std::isfinite(settings.max_range)) {
     throw Error(ErrorCode::InvalidArgument,
                 "ray integrator: max_range must be finite and >= 0, got " + std::to_string(settings.max_range));
@@ -70,7 +79,7 @@ RayIntegrator& RayIntegrator::operator=(RayIntegrator&&) noexcept = default;
 std::size_t RayIntegrator::scratch_bytes() const {
   if (!scratch_) return 0;  // moved from
   std::size_t bytes = sizeof(Scratch) + scratch_->update.memory_bytes();
-  for (const ScanRays& r : scratch_->rays) bytes += r.memory_bytes();
+  for (const auto& slot : scratch_->rays_bytes) bytes += slot.load(std::memory_order_relaxed);
   return bytes;
 }
 
@@ -94,7 +103,13 @@ IntegrationStats RayIntegrator::trace(std::size_t slot, double resolution, const
   check_slot(slot);
   s.traced[slot] = false;
   IntegrationStats stats;
-  s.rays[slot].compute(settings_, resolution, points, origin, stats);
+  try {
+    s.rays[slot].compute(settings_, resolution, points, origin, stats);
+  } catch (...) {
+    s.count(slot);
+    throw;
+  }
+  s.count(slot);
   s.traced[slot] = true;
   return stats;
 }
@@ -108,11 +123,19 @@ void RayIntegrator::apply(MetricMap& map, std::size_t slot, IntegrationStats& st
   }
   s.traced[slot] = false;
   s.update.apply(map, s.rays[slot], stats);
+  s.count(slot);
 }
 
 std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, std::span<const Scan> scans) {
   Scratch& s = *scratch_;
   s.traced.fill(false);  // every slot's rays are overwritten below
+  // Their bytes counted again however the sequence ends (after the tasks below have).
+  struct Recount {
+    Scratch& scratch;
+    ~Recount() {
+      for (std::size_t slot = 0; slot < kSlots; ++slot) scratch.count(slot);
+    }
+  } const recount{s};
   std::vector<IntegrationStats> stats(scans.size());
   // The arena's threads, as limited by an arena of one or a global_control.
   const std::size_t threads = std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),

@@ -30,8 +30,9 @@ class RayIntegrator {
 
   // Bytes of scratch kept between scans (the three scans' rays in flight,
   // every thread's masks, the update's tables), apart from the map's own
-  // (MetricMap::memory_bytes). Grows to the largest scan seen; not
-  // thread-safe with integrate().
+  // (MetricMap::memory_bytes). Grows to the largest scan seen. It may run
+  // beside trace() of a slot (whose bytes it counts as that slot's last
+  // use left them), not beside apply(), integrate() or integrate_sequence().
   std::size_t scratch_bytes() const;
 
   // Integrates the scan's points (world frame) seen from origin. Each voxel is
