@@ -24,6 +24,7 @@
 
 #include <tbb/global_control.h>
 
+#include "bench/metric/fastest_run.hpp"
 #include "bench/metric/sequence_fixture.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "kernels/simd_level.hpp"
@@ -135,10 +136,8 @@ void BM_Sarmap(benchmark::State& state) {
 }
 
 // Each case runs three times and reports the fastest as "_min" besides the
-// mean: on a shared machine a burst of other work slows one run, and
-// OctoMap's single long iterations suffer most; the ratio of the minima is
-// the sturdier comparison.
-double fastest(const std::vector<double>& runs) { return *std::min_element(runs.begin(), runs.end()); }
+// mean (fastest_run.hpp says why).
+using sarmap::bench::fastest;
 
 BENCHMARK(BM_OctoMap<>)->Name("BM_OctoMap")->ArgNames({"res_mm", "width"})->Args({50, 320})->Args({25, 320})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)
