@@ -5,7 +5,9 @@
 // front end feeds it) or as a stream whose stages overlap
 // (Mapper::integrate_stream, as `sarmap run` does). Beside the wall time per
 // scan it reports each stage's mean and p95 and the per-scan latency from the
-// Mapper's own profile, so one run names the slowest stage.
+// Mapper's own profile, so one run names the slowest stage, and the metric
+// stage's sum to set beside the integrator alone on the same points
+// (mapper_integrator_alone_bench.cpp).
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
@@ -69,6 +71,10 @@ void BM_MapperDefaultArena(benchmark::State& state) {
     state.counters[stage + "_ms"] = s.mean_s * 1e3;
     state.counters[stage + "_p95_ms"] = s.p95_s * 1e3;
   }
+  // The metric stage summed over the scans and its rays, to set beside
+  // BM_MapperIntegratorAlone (the integrator on the same points, alone).
+  state.counters["metric_total_ms"] = last.stats("metric").total_s * 1e3;
+  state.counters["metric_rays"] = last.counter("metric", "rays");
   state.counters["latency_p50_ms"] = last.latency().p50_s * 1e3;
   state.counters["latency_p95_ms"] = last.latency().p95_s * 1e3;
 }
