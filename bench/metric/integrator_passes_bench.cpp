@@ -6,7 +6,7 @@
 // and reported as milliseconds summed over the frames. Run at 1 and 2
 // threads, the ratio per pass says which ones the second thread speeds up
 // and which hold the per-scan path back against integrate_sequence(), which
-// overlaps scans to hide the serial parts.
+// overlaps two scans to hide the serial parts.
 #include <benchmark/benchmark.h>
 
 #include <chrono>

@@ -88,8 +88,8 @@ void BM_OctoMap(benchmark::State& state) {
 }
 
 // How sarmap is given the frames: one integrate() call per frame, or the
-// whole sequence to integrate_sequence(), which walks frame k's rays while
-// frame k - 1 is written into the map.
+// whole sequence to integrate_sequence(), which traces frame k's rays while
+// frame k - 1 is written into the map (as the Mapper's stream does).
 enum class Feed { PerScan, Sequence };
 
 // Args: resolution in mm, image width, threads.

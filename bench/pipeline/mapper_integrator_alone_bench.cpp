@@ -2,8 +2,8 @@
 // the points the Mapper integrates (the default arena's 160 scans after its
 // preprocessing, the "labels" classifier's BM_MapperDefaultArena rows) fed
 // to a RayIntegrator with the Mapper's own settings, nothing else running:
-// integrate() scan by scan, and integrate_sequence(), which overlaps three
-// scans. BM_MapperDefaultArena's metric_total_ms over this row's time is how
+// integrate() scan by scan, and integrate_sequence(), which traces the next
+// scan while this one is applied, as the Mapper's stream does. BM_MapperDefaultArena's metric_total_ms over this row's time is how
 // far the users' path is from the benchmark's (PERF.md); both rows are in
 // the same binary so that the ratio is read from one run.
 #include <benchmark/benchmark.h>

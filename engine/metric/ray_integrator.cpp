@@ -7,12 +7,13 @@
 // masks, hits that override misses, blocks created in sorted key order;
 // (4) parallel updates, one block per task.
 //
-// A sequence of scans runs three scans at once: scan k + 1's end voxels are
-// found while scan k is walked and scan k - 1 is written into the map. The
-// serial parts (pass 1's merge, pass 3) then run beside parallel work
-// instead of leaving the second thread idle, and the joins of the parallel
-// passes even out. The map is the same as integrating the scans one by one,
-// because passes 1 and 2 never read the map and the updates run one scan at
+// Passes 1-2 (trace) never read the map, so the next scan's can run while
+// this scan's passes 3-4 (apply) write it: the serial parts of each half
+// then run beside the parallel work of the other instead of leaving the
+// second thread idle. A sequence of scans runs so (integrate_sequence), and
+// so does the Mapper's stream (Mapper::integrate_stream), with the same two
+// halves: the benchmark's sequence is the users' path. The map is the same
+// as integrating the scans one by one, because the updates run one scan at
 // a time, in order.
 #include "engine/metric/ray_integrator.hpp"
 
@@ -156,51 +157,32 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
     }
     return stats;
   }
-  // The resolution is read once: the map is being written while scans' rays are computed.
+  // The resolution is read once: the map is being written while scans' rays are traced.
   const double resolution = map.resolution();
   if (scans.empty()) return stats;
   try {
-    s.rays[0].find_ends(settings_, resolution, scans[0].points, scans[0].origin, stats[0]);
+    stats[0] = trace(0, resolution, scans[0].points, scans[0].origin);
   } catch (const Error& e) {
     throw named(0, e);
   }
-  tbb::task_group writing;  // scan k - 1's update, at most one at a time
-  tbb::task_group finding;  // scan k + 1's end voxels
+  // Scan k is applied in a task while this thread traces scan k + 1 into
+  // the other slot (both halves' parallel loops share the arena's threads).
   for (std::size_t k = 0; k < scans.size(); ++k) {
-    // Scan k + 1 takes the rays of scan k - 2, whose update ended in the last round.
-    std::exception_ptr find_error;
+    tbb::task_group writing;
+    writing.run([&, k] { apply(map, k % 2, stats[k]); });
     if (k + 1 < scans.size()) {
-      finding.run([&, k] {
-        try {
-          s.rays[(k + 1) % 3].find_ends(settings_, resolution, scans[k + 1].points, scans[k + 1].origin,
-                                        stats[k + 1]);
-        } catch (...) {
-          find_error = std::current_exception();
-        }
-      });
-    }
-    ScanRays& rays = s.rays[k % 3];
-    try {
-      rays.walk(settings_, stats[k]);
-    } catch (...) {
-      finding.wait();
-      writing.wait();
-      throw;
-    }
-    finding.wait();
-    writing.wait();  // scan k - 1 is in the map
-    if (find_error) {
-      // Scans 0 .. k go into the map; nothing of scan k + 1 did.
-      s.update.apply(map, rays, stats[k]);
       try {
-        std::rethrow_exception(find_error);
+        stats[k + 1] = trace((k + 1) % 2, resolution, scans[k + 1].points, scans[k + 1].origin);
       } catch (const Error& e) {
+        writing.wait();  // scans 0 .. k are in the map; nothing of scan k + 1 is
         throw named(k + 1, e);
+      } catch (...) {
+        writing.wait();
+        throw;
       }
     }
-    writing.run([&s, &map, &rays, &stats, k] { s.update.apply(map, rays, stats[k]); });
+    writing.wait();
   }
-  writing.wait();
   return stats;
 }
 

@@ -59,10 +59,11 @@ class RayIntegrator {
 
   // Integrates the scans' points from their origins, in order: the same map
   // and per-scan figures as integrate() on each in turn, faster with several
-  // threads because three scans are in flight: one scan's rays are walked
-  // while the next one's end voxels are found and the one before is written
-  // into the map. On an error in scan k (as integrate() throws, the message
-  // naming the scan) the map holds scans 0 .. k - 1 exactly.
+  // threads because the next scan is traced while this one is applied (two
+  // slots: the halves and the overlap of the Mapper's stream, so that the
+  // benchmark measures the path users run). On an error in scan k (as
+  // integrate() throws, the message naming the scan) the map holds scans
+  // 0 .. k - 1 exactly.
   std::vector<IntegrationStats> integrate_sequence(MetricMap& map, std::span<const Scan> scans);
 
  private:

@@ -129,8 +129,8 @@ void Mapper::stream_overlapped(std::size_t first_frame, const ScanReader& read, 
     return item;
   };
   // The rays of the next scan are traced while the maps take this one (the
-  // benchmark's sequence overlap, RayIntegrator::integrate_sequence, for
-  // scans that arrive one by one).
+  // overlap of RayIntegrator::integrate_sequence, which the benchmark
+  // measures, for scans that arrive one by one).
   const auto trace = [&](StreamedScan* item) -> StreamedScan* {
     const HandOver order(handoff);
     if (!item->read_failed && !item->error) {

@@ -1,6 +1,6 @@
 // The integrator's two ways of overlapping scans. integrate_sequence(),
-// which walks one scan's rays while the next one's end voxels are found and
-// the one before is written into the map: the same map and per-scan figures
+// which traces the next scan's rays while this one is written into the
+// map: the same map and per-scan figures
 // as integrate() on each scan in turn, for 1 and 2 threads and every scratch
 // path; an error in any scan (the first, the second, one in the middle, the
 // last) leaves exactly the scans before it in the map. And trace() into a
