@@ -52,11 +52,20 @@ std::size_t EndVoxelGroups::memory_bytes() const {
          capacity_bytes(dense_);
 }
 
-void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells) {
+void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells,
+                           const std::function<void(std::size_t)>& progress) {
   keys_.clear();
   observations_.clear();
   VoxelBox box;
-  for (const LocalEndGroups& stretch : stretches) box.add(stretch.box());
+  std::size_t most = 0;
+  for (const LocalEndGroups& stretch : stretches) {
+    box.add(stretch.box());
+    most += stretch.keys().size();
+  }
+  // Room for every group up front: groups already final never move while
+  // a reader given them by after_stretch goes on.
+  keys_.reserve(most);
+  observations_.reserve(most);
   // Folds every stretch's groups, in order, into the global group whose
   // index global_index(key) gives (the next index opens a new group).
   const auto fold_all = [&](auto&& global_index) {
@@ -67,10 +76,12 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
         if (u == keys_.size()) {
           keys_.push_back(key);
           observations_.push_back(stretch.observations()[g]);
+          if (progress && keys_.size() % kProgressGroups == 0) progress(keys_.size());
         } else {
           observations_[u].add(stretch.observations()[g]);
         }
       }
+      if (progress) progress(keys_.size());
     }
   };
 

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
@@ -136,8 +137,15 @@ class EndVoxelGroups {
  public:
   // One group per voxel of the stretches' groups, in order of first
   // appearance; the dense table is used when the box of all their voxels
-  // has at most max_dense_cells cells.
-  void merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells);
+  // has at most max_dense_cells cells. progress(n), if given, is called with
+  // the number of groups so far after every kProgressGroups new groups and
+  // after each stretch: the keys below n are final and stay where they are
+  // until the next merge, so another thread may read them while the merge
+  // goes on (their observations may still grow: a later stretch can see the
+  // same voxel).
+  static constexpr std::size_t kProgressGroups = 256;
+  void merge(std::span<const LocalEndGroups> stretches, std::size_t max_dense_cells,
+             const std::function<void(std::size_t)>& progress = {});
 
   std::size_t size() const { return keys_.size(); }
   const std::vector<VoxelKey>& keys() const { return keys_; }

@@ -8,6 +8,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "engine/core/capacity_bytes.hpp"
 #include "engine/core/classes.hpp"
@@ -28,6 +29,7 @@ void ThreadMisses::clear() {
   miss.clear();
   miss_words = nullptr;
   visits = 0;
+  rays = 0;
   dense_in_use = false;
 }
 
@@ -112,8 +114,8 @@ struct RayCutter {
 
 }  // namespace
 
-void ScanRays::find_ends(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                         const Eigen::Vector3d& origin, IntegrationStats& stats) {
+void ScanRays::compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
+                       const Eigen::Vector3d& origin, IntegrationStats& stats) {
   if (!within_map_limits(origin.x(), origin.y(), origin.z())) {
     throw Error(ErrorCode::OutOfRange, "ray integrator: sensor origin (" + std::to_string(origin.x()) + ", " +
                                            std::to_string(origin.y()) + ", " + std::to_string(origin.z()) +
@@ -122,15 +124,62 @@ void ScanRays::find_ends(const IntegratorSettings& settings, double resolution, 
   stats.points_in += points.size();
   const double inv_res = 1.0 / resolution;
   origin_ = {origin.x() * inv_res, origin.y() * inv_res, origin.z() * inv_res};
-  find_end_voxels(settings, resolution, points, stats);
+  for (ThreadMisses& t : threads_) {
+    t.clear();
+    if (dense_dirty_) std::fill(t.dense.begin(), t.dense.end(), 0);
+  }
+  dense_dirty_ = false;
+  const std::span<const LocalEndGroups> stretches = group_points(settings, resolution, points, stats);
+  const RayCutter cutter{origin_, resolution, settings.max_range, settings.max_range * inv_res,
+                         settings.clear_beyond_max_range};
+  if (settings.discretize) {
+    // Every ray ends in the box of the end voxels or on its way there (cut
+    // at the max range), so the grid over that box and the origin holds
+    // every walk, and is known before the merge.
+    VoxelBox box;
+    for (const LocalEndGroups& stretch : stretches) box.add(stretch.box());
+    if (!box.empty()) {
+      const double start[3] = {origin_.x, origin_.y, origin_.z};
+      const std::vector<RayEnd> corners = {{box.lo.x + 0.5, box.lo.y + 0.5, box.lo.z + 0.5},
+                                           {box.hi.x + 0.5, box.hi.y + 0.5, box.hi.z + 0.5}};
+      dense_box_ = scan_block_box(start, corners, settings.dense_walk_max_blocks);
+      if (dense_box_) {
+        merge_while_walking(settings, resolution, stretches, stats);
+        return;
+      }
+    }
+  }
+  ends_.merge(stretches, settings.dense_dedupe_max_cells);
+  count_ends(stats);
+  if (settings.discretize) {
+    // One ray per end voxel, to its centre, computed in parallel, then the
+    // voxels without a ray (beyond range, not clearing) squeezed out.
+    const std::vector<VoxelKey>& end_keys = ends_.keys();
+    rays_.resize(end_keys.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t u = range.begin(); u != range.end(); ++u) {
+                          const VoxelKey& k = end_keys[u];
+                          const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[u]);
+                          end_is_hit_[u] = kind == RayKind::Hit ? 1 : 0;
+                          // A NaN x marks "no ray" for the squeeze below.
+                          if (kind == RayKind::None) rays_[u].x = std::numeric_limits<double>::quiet_NaN();
+                        }
+                      });
+    if (!settings.clear_beyond_max_range) {
+      std::erase_if(rays_, [](const RayEnd& ray) { return std::isnan(ray.x); });
+    }
+  }
+  stats.rays += rays_.size();
+  walk(settings, stats);
 }
 
-// Pass 1: distinct end voxels, their observations, and the rays: keys,
-// local groups and rays in parallel over fixed chunks of points (rays
-// concatenated in chunk order), then the groups merged in chunk order, so
-// nothing depends on the thread count.
-void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                               IntegrationStats& stats) {
+// Pass 1's parallel part: keys, local groups and (when not discretising)
+// rays over fixed chunks of points, so nothing depends on the thread count;
+// the rays concatenated in chunk order. Returns the chunks' groups, which
+// the merge takes in chunk order.
+std::span<const LocalEndGroups> ScanRays::group_points(const IntegratorSettings& settings, double resolution,
+                                                       const PointBuffer& points, IntegrationStats& stats) {
   const RayEnd& o = origin_;
   const double inv_res = 1.0 / resolution;
   const RayCutter cutter{o, resolution, settings.max_range, settings.max_range * inv_res,
@@ -208,42 +257,89 @@ void ScanRays::find_end_voxels(const IntegratorSettings& settings, double resolu
     stats.points_rejected += chunks_[c].rejected;
     rays_.insert(rays_.end(), chunks_[c].rays.begin(), chunks_[c].rays.end());
   }
-  ends_.merge(std::span<const LocalEndGroups>(local_groups_.data(), chunk_count), settings.dense_dedupe_max_cells);
-  const std::vector<VoxelKey>& end_keys = ends_.keys();
-  stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
-  stats.end_voxels += end_keys.size();
-  end_is_hit_.assign(end_keys.size(), 1);
-  if (settings.discretize) {
-    // One ray per end voxel, to its centre, computed in parallel (serially,
-    // the other thread of a 2-thread run sat idle through it),
-    // then the voxels without a ray (beyond range, not clearing) squeezed out.
-    rays_.resize(end_keys.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t u = range.begin(); u != range.end(); ++u) {
-                          const VoxelKey& k = end_keys[u];
-                          const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[u]);
-                          end_is_hit_[u] = kind == RayKind::Hit ? 1 : 0;
-                          // A NaN x marks "no ray" for the squeeze below.
-                          if (kind == RayKind::None) rays_[u].x = std::numeric_limits<double>::quiet_NaN();
-                        }
-                      });
-    if (!settings.clear_beyond_max_range) {
-      std::erase_if(rays_, [](const RayEnd& ray) { return std::isnan(ray.x); });
-    }
-  }
-  stats.rays += rays_.size();
+  return {local_groups_.data(), chunk_count};
 }
 
-// Pass 2: parallel walks into per-thread miss masks (several rays per step
-// in SIMD lanes where the CPU has AVX2 or AVX-512).
+void ScanRays::count_ends(IntegrationStats& stats) {
+  stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
+  stats.end_voxels += ends_.size();
+  end_is_hit_.assign(ends_.size(), 1);
+}
+
+// The merge of pass 1 and the walk of pass 2 at once: this thread merges the
+// chunks' groups in order and hands the end voxels it has finished, a
+// stretch of rays at a time, to tasks that cast and walk their rays on the
+// other threads. The merge is serial; overlapped so, it no longer leaves
+// the other threads idle between the two passes.
+void ScanRays::merge_while_walking(const IntegratorSettings& settings, double resolution,
+                                   std::span<const LocalEndGroups> stretches, IntegrationStats& stats) {
+  const RayCutter cutter{origin_, resolution, settings.max_range, settings.max_range * (1.0 / resolution),
+                         settings.clear_beyond_max_range};
+  const double start[3] = {origin_.x, origin_.y, origin_.z};
+  const kernels::SimdLevel level = kernels::active_simd_level();
+  const kernels::DenseMaskGrid grid = *dense_box_;
+  const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(grid);
+  std::size_t most = 0;  // end voxels at most: the chunks' groups
+  for (const LocalEndGroups& stretch : stretches) most += stretch.keys().size();
+  rays_.resize(most);
+  end_is_hit_.resize(most);
+  dense_dirty_ = true;
+  stats.dense_walks += 1;
+  // Stretches of at least 512 rays and about 16 per scan: the SIMD lanes
+  // drain at the end of every call, so short calls leave lanes idle, but too
+  // few stretches share badly between two threads.
+  const std::size_t grain = std::max<std::size_t>(512, (most + 15) / 16);
+  // Rays [first, last) cast and walked; those with a ray are packed from
+  // rays_[first] on (ranges never overlap, so no task sees another's).
+  const auto cast_and_walk = [&](const VoxelKey* keys, std::size_t first, std::size_t last) {
+    std::size_t cast = 0;
+    for (std::size_t u = first; u < last; ++u) {
+      const VoxelKey& k = keys[u];
+      const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[first + cast]);
+      end_is_hit_[u] = kind == RayKind::Hit ? 1 : 0;
+      cast += kind == RayKind::None ? 0 : 1;
+    }
+    ThreadMisses& t = threads_.local();
+    if (!t.dense_in_use) {
+      if (t.dense.size() < words) t.dense.resize(words, 0);  // all zero already
+      t.dense_in_use = true;
+    }
+    kernels::DenseMaskGrid mine = grid;
+    mine.words = t.dense.data();
+    t.visits += kernels::mark_ray_cells_dense(start, &rays_[first].x, cast, mine, level);
+    t.rays += cast;
+  };
+  tbb::task_group walking;
+  std::size_t handed = 0;  // end voxels handed to a task so far
+  const auto hand_on = [&](std::size_t first, std::size_t last) {
+    const VoxelKey* keys = ends_.keys().data();  // stays put until the next merge
+    walking.run([&cast_and_walk, keys, first, last] { cast_and_walk(keys, first, last); });
+  };
+  try {
+    ends_.merge(stretches, settings.dense_dedupe_max_cells, [&](std::size_t final_groups) {
+      for (; final_groups - handed >= grain; handed += grain) hand_on(handed, handed + grain);
+    });
+    if (handed < ends_.size()) hand_on(handed, ends_.size());
+  } catch (...) {
+    walking.wait();  // the tasks read this frame's locals
+    throw;
+  }
+  walking.wait();
+  const std::size_t ends = ends_.size();
+  stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
+  stats.end_voxels += ends;
+  end_is_hit_.resize(ends);
+  for (const ThreadMisses& t : threads_) {
+    stats.rays += t.rays;
+    stats.voxel_visits += t.visits;
+  }
+}
+
+// Pass 2 after the whole of pass 1 (rays per point, or a box too large for
+// a dense grid): parallel walks into per-thread miss masks (several rays per
+// step in SIMD lanes where the CPU has AVX2 or AVX-512).
 void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats) {
   const RayEnd& o = origin_;
-  for (ThreadMisses& t : threads_) {
-    t.clear();
-    if (dense_dirty_) std::fill(t.dense.begin(), t.dense.end(), 0);
-  }
-  dense_dirty_ = false;
   const double start[3] = {o.x, o.y, o.z};
   const kernels::SimdLevel level = kernels::active_simd_level();
   dense_box_ = scan_block_box(start, rays_, settings.dense_walk_max_blocks);

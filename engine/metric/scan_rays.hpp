@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +36,7 @@ struct ThreadMisses {
   std::vector<BlockMask> miss;          // per entry of blocks
   std::uint64_t* miss_words = nullptr;  // miss.data() as words, for the marking kernel
   std::size_t visits = 0;
+  std::size_t rays = 0;  // rays walked (counted by the walk that runs beside the merge)
   // A mask per block of the scan's box; valid for this scan only when
   // dense_in_use (a thread that walked no ray has none). All zero between
   // scans: ScanUpdate clears the blocks it reads, while they are in cache,
@@ -62,17 +64,10 @@ class ScanRays {
   // sarmap::Error for an origin beyond the map limits (OutOfRange) or a
   // label that is not a class id (InvalidData). Parallel over the calling
   // thread's oneTBB arena; the results do not depend on its thread count.
+  // When discretising into a dense grid (the common case), pass 1's serial
+  // merge runs beside the walks of the rays it has finished.
   void compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-               const Eigen::Vector3d& origin, IntegrationStats& stats) {
-    find_ends(settings, resolution, points, origin, stats);
-    walk(settings, stats);
-  }
-  // compute() in its two passes (timed apart by bench/metric's passes
-  // benchmark): pass 1 (throws as compute() does), then pass 2 for the same
-  // scan (voxel_visits and the dense count).
-  void find_ends(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                 const Eigen::Vector3d& origin, IntegrationStats& stats);
-  void walk(const IntegratorSettings& settings, IntegrationStats& stats);
+               const Eigen::Vector3d& origin, IntegrationStats& stats);
 
   // The distinct end voxels and their observations, in a fixed order.
   const EndVoxelGroups& ends() const { return ends_; }
@@ -102,8 +97,15 @@ class ScanRays {
     static constexpr std::size_t kNoBadLabel = ~std::size_t{0};
   };
 
-  void find_end_voxels(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
-                       IntegrationStats& stats);
+  std::span<const LocalEndGroups> group_points(const IntegratorSettings& settings, double resolution,
+                                               const PointBuffer& points, IntegrationStats& stats);
+  // Pass 1's merge with pass 2 beside it, into the dense grid dense_box_.
+  void merge_while_walking(const IntegratorSettings& settings, double resolution,
+                           std::span<const LocalEndGroups> stretches, IntegrationStats& stats);
+  // The end voxels' counts after a merge on its own; every one a hit until its ray says.
+  void count_ends(IntegrationStats& stats);
+  // Pass 2 after the whole of pass 1.
+  void walk(const IntegratorSettings& settings, IntegrationStats& stats);
 
   RayEnd origin_{};  // the scan's sensor origin in voxel units, from find_ends()
   std::vector<PointChunk> chunks_;

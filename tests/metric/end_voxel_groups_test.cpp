@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,39 @@ TEST(EndVoxelGroups, VoxelsEvictedFromTheLocalCacheMergeIntoOneGroupEach) {
     EndVoxelGroups again = groups;
     again.merge(stretches, dense_limit);
     EXPECT_EQ(again.keys(), groups.keys());
+  }
+}
+
+// What the merge reports while it goes on (the walk of the rays starts on
+// it): counts that only grow, one after every kProgressGroups new groups and
+// after each stretch, ending at the number of groups, and keys below a
+// reported count that are already the final ones, at the addresses they
+// keep; through either table.
+TEST(EndVoxelGroups, ProgressReportsFinalKeysAsTheMergeGoesOn) {
+  const int distinct = 3000, rounds = 2;
+  const CyclingScan scan(distinct, rounds);
+  const ClassSource source = ClassSource::of(scan.points, false);
+  const std::vector<LocalEndGroups> stretches = group_in_stretches(scan, 1000, source);
+  for (const std::size_t dense_limit : {std::size_t{1} << 20, std::size_t{0}}) {
+    EndVoxelGroups groups;
+    std::vector<std::size_t> reported;
+    std::vector<std::vector<VoxelKey>> seen;  // the keys below each report, read as it is made
+    const VoxelKey* first = nullptr;
+    groups.merge(stretches, dense_limit, [&](std::size_t n) {
+      reported.push_back(n);
+      if (first == nullptr) first = groups.keys().data();
+      EXPECT_EQ(groups.keys().data(), first);  // never moved
+      seen.emplace_back(first, first + n);
+    });
+    ASSERT_EQ(groups.size(), static_cast<std::size_t>(distinct));
+    ASSERT_FALSE(reported.empty());
+    EXPECT_EQ(reported.back(), groups.size());
+    EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+    // At least one report per kProgressGroups new groups, and one per stretch.
+    EXPECT_GE(reported.size(), groups.size() / EndVoxelGroups::kProgressGroups + stretches.size() - 1);
+    for (const std::vector<VoxelKey>& prefix : seen) {
+      EXPECT_TRUE(std::equal(prefix.begin(), prefix.end(), groups.keys().begin()));
+    }
   }
 }
 
