@@ -1,8 +1,13 @@
 // mark_ray_cells() and mark_ray_cells_dense() written once over the xsimd
 // architecture, compiled per instruction set by ray_marking_{avx2,avx512}.cpp.
 // Each lane of a vector of floats (16 on AVX-512, 8 on AVX2) carries one
-// ray's DdaState (dda_walk.hpp) and steps it with the same operations as
-// dda_step(), so every lane visits exactly the cells the scalar walk visits.
+// ray's DdaState (dda_walk.hpp) and steps it to the same values as
+// dda_step() (the same float operations on the same operands), so every
+// lane visits exactly the cells the scalar walk visits. Three fields are
+// held one step ahead, which takes work off the chain that runs from one
+// step to the next (the walk waits on that chain, not on its arithmetic):
+// the face plus the step, the cell before the last, and the next crossing
+// already +inf where it would lead past the last cell (RayStage).
 // Cells are held as floats too (integers below 2^24 are exact in a float).
 // A lane whose ray reaches its end cell takes the next ray, set up ahead in
 // a RayStage. walk_ray_lanes() does that and hands each step's cells to a
@@ -43,7 +48,8 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
 }
 
 // Rays set up ahead for the lanes, field by field: the 21 floats of a
-// DdaState in lanes' form (cells as floats), for up to kCapacity rays, taken
+// DdaState in lanes' form (cells as floats; face, last and next one step
+// ahead, as top_up() says), for up to kCapacity rays, taken
 // from the call's rays in the order 0, stretch, 2 stretch, ..., 1,
 // stretch + 1, ... (N stretches). Consecutive rays (neighbouring pixels) run
 // nearly parallel; as neighbouring lanes they would mark the same mask word
@@ -89,12 +95,18 @@ class RayStage {
       if (!s.moves) continue;
       for (int i = 0; i < 3; ++i) {
         fields_[kV + i][staged_] = static_cast<float>(s.v[i]);
-        fields_[kLast + i][staged_] = static_cast<float>(s.last[i]);
+        // The cell from which the axis's next crossing leads onto its last
+        // cell (the last cell itself for an axis that never moves): where the
+        // crossing after that, next, is +inf.
+        fields_[kLast + i][staged_] = static_cast<float>(s.last[i] - s.step[i]);
         fields_[kStep + i][staged_] = static_cast<float>(s.step[i]);
-        fields_[kFace + i][staged_] = s.face[i];
+        // The face after the one the ray leaves through (face + step, both
+        // small integers, exact in floats): the value the next crossing's
+        // parameter is computed from, kept so that a step adds one less.
+        fields_[kFace + i][staged_] = s.face[i] + static_cast<float>(s.step[i]);
         fields_[kInv + i][staged_] = s.inv[i];
         fields_[kT + i][staged_] = s.t[i];
-        fields_[kNext + i][staged_] = s.next[i];
+        fields_[kNext + i][staged_] = s.v[i] == s.last[i] - s.step[i] ? std::numeric_limits<float>::infinity() : s.next[i];
       }
       ++staged_;
     }
@@ -180,26 +192,33 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   refill((N == 16 ? 0xffffu : (1u << N) - 1u));
   if (active == 0) return 0;
 
+  D tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
   while (true) {
     marker.record(vv, active, parity);
     marker.mark(parity ^ 1);
     visits += static_cast<std::size_t>(std::popcount(active));
     parity ^= 1;
 
-    // dda_step() on every lane.
-    const D tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
+    // dda_step() on every lane. An axis that steps takes next as it is (+inf
+    // once on its last cell, decided off the chain below), and the minimum
+    // of the crossings is taken once per step, for the next step and the
+    // arrival test alike.
     for (int i = 0; i < 3; ++i) {
       const auto stepping = (tv[i] - tie) <= tmin;
       vv[i] = xsimd::select(stepping, vv[i] + stepv[i], vv[i]);
       facev[i] = xsimd::select(stepping, facev[i] + stepv[i], facev[i]);
-      tv[i] = xsimd::select(stepping, xsimd::select(vv[i] == lastv[i], inf, nextv[i]), tv[i]);
-      nextv[i] = (facev[i] + stepv[i] - startv[i]) * invv[i];
+      tv[i] = xsimd::select(stepping, nextv[i], tv[i]);
+      nextv[i] = xsimd::select(vv[i] == lastv[i], inf, (facev[i] - startv[i]) * invv[i]);
     }
-    const unsigned arrived =
-        lane_bits<Arch>((vv[0] == lastv[0]) && (vv[1] == lastv[1]) && (vv[2] == lastv[2])) & active;
+    tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
+    // A lane has arrived when every axis is done (t = +inf on each), which
+    // is exactly when its cell is the end cell: an axis's t becomes +inf
+    // only as it steps onto its last cell, or from the start when it never moves.
+    const unsigned arrived = lane_bits<Arch>(tmin == inf) & active;
     if (arrived != 0) {
       refill(arrived);
       if (active == 0) break;
+      tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
     }
   }
   marker.mark(parity ^ 1);  // the last step's marks (the loop left before marking them)
