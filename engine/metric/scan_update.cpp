@@ -7,8 +7,13 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/core/capacity_bytes.hpp"
+#include "kernels/log_odds_misses.hpp"
 
 namespace sarmap::metric {
+
+static_assert(kernels::kUnknownLogOddsByte == kStoredUnknownLogOdds && kernels::kLogOddsBlockVoxels == kBlockVoxels &&
+                  kernels::kLogOddsBlockWords == BlockMask{}.size(),
+              "the miss kernel reads a block's slab as the map stores it");
 
 std::uint32_t ScanUpdate::merged_index(std::uint64_t packed_block) {
   const std::uint32_t b = merged_.find_or_insert(packed_block);
@@ -153,10 +158,13 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   const LabelFusion& fusion = map.fusion();
   const std::vector<ClassObservation>& observations = rays.ends().observations();
   uniform_after_.assign(merged_keys.size(), 0);
+  const kernels::LogOddsMiss miss_update{occ.miss(), occ.min(), occ.max(), occ.threshold()};
+  const kernels::SimdLevel level = kernels::active_simd_level();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                        update_block(*block_of_index_[b], merged_miss_[b], merged_hit_[b], b, occ, fusion,
+                        update_block(*block_of_index_[b], merged_miss_[b], merged_hit_[b], b, occ, miss_update,
+                                     level, fusion,
                                      end_keys, observations);
                         uniform_after_[b] = SemanticBlocks::uniform_slab(*block_of_index_[b]) ? 1 : 0;
                       }
@@ -168,24 +176,24 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
 }
 
 void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const BlockMask& hit,
-                              std::size_t b, const OccupancyModel& occ, const LabelFusion& fusion,
+                              std::size_t b, const OccupancyModel& occ, const kernels::LogOddsMiss& miss_update,
+                              kernels::SimdLevel level, const LabelFusion& fusion,
                               const std::vector<VoxelKey>& end_keys,
                               const std::vector<ClassObservation>& observations) const {
   std::int8_t* log_odds = block.log_odds_slab();
-  // Not expanded: uniform, and the misses leave it so (prepare()).
-  const bool uniform_free = log_odds == nullptr && occ.state(block.uniform_log_odds()) == VoxelState::Free;
+  BlockMask missed, free;
+  for (std::size_t w = 0; w < miss.size(); ++w) missed[w] = miss[w] & ~hit[w];
+  if (log_odds != nullptr) {
+    kernels::apply_log_odds_misses(log_odds, missed.data(), miss_update, free.data(), level);
+  } else {
+    // Not expanded: uniform at the clamp minimum, which the misses leave so
+    // (prepare()), and free.
+    free = occ.state(block.uniform_log_odds()) == VoxelState::Free ? missed : BlockMask{};
+  }
+  // A voxel left free loses some of its class evidence (few hold any).
   for (std::size_t w = 0; w < miss.size(); ++w) {
-    std::uint64_t bits = miss[w] & ~hit[w];
-    while (bits) {
+    for (std::uint64_t bits = free[w] & block.evidence_mask()[w]; bits != 0; bits &= bits - 1) {
       const int l = static_cast<int>(w * 64) + std::countr_zero(bits);
-      bits &= bits - 1;
-      bool free = uniform_free;
-      if (log_odds != nullptr) {
-        const std::int16_t after = occ.add(log_odds_of(log_odds[l]), occ.miss());
-        log_odds[l] = stored_log_odds(after);
-        free = occ.state(after) == VoxelState::Free;
-      }
-      if (!free || !block.holds_evidence(l)) continue;
       block.change_evidence(l, [&](ClassEvidence& evidence) { fusion.decay(evidence); });
     }
   }
