@@ -30,16 +30,16 @@ void apply_log_odds_misses(std::int8_t* log_odds, const std::uint64_t* misses, c
                            std::uint64_t* free_after, SimdLevel level);
 
 // One voxel at a time: the definition.
-void apply_log_odds_misses_reference(std::int8_t* log_odds, const std::uint64_t* misses, const LogOddsMiss& update,
-                                     std::uint64_t* free_after);
+void apply_log_odds_misses_reference(std::int8_t* log_odds, const std::uint64_t* misses,
+                                     const LogOddsMiss& update, std::uint64_t* free_after);
 
 namespace detail {
 // Sixteen voxels per step (SSE4.2, the baseline; the AVX2 level uses it too).
-void apply_log_odds_misses_sse42(std::int8_t* log_odds, const std::uint64_t* misses, const LogOddsMiss& update,
-                                 std::uint64_t* free_after);
+void apply_log_odds_misses_sse42(std::int8_t* log_odds, const std::uint64_t* misses,
+                                 const LogOddsMiss& update, std::uint64_t* free_after);
 // A word of 64 voxels per step, its bits the byte mask.
-void apply_log_odds_misses_avx512(std::int8_t* log_odds, const std::uint64_t* misses, const LogOddsMiss& update,
-                                  std::uint64_t* free_after);
+void apply_log_odds_misses_avx512(std::int8_t* log_odds, const std::uint64_t* misses,
+                                  const LogOddsMiss& update, std::uint64_t* free_after);
 }  // namespace detail
 
 }  // namespace sarmap::kernels

@@ -7,8 +7,8 @@
 
 namespace sarmap::kernels::detail {
 
-void apply_log_odds_misses_avx512(std::int8_t* log_odds, const std::uint64_t* misses, const LogOddsMiss& update,
-                                  std::uint64_t* free_after) {
+void apply_log_odds_misses_avx512(std::int8_t* log_odds, const std::uint64_t* misses,
+                                  const LogOddsMiss& update, std::uint64_t* free_after) {
   const __m512i unknown = _mm512_set1_epi8(kUnknownLogOddsByte);
   const __m512i miss = _mm512_set1_epi8(static_cast<char>(update.miss));
   const __m512i lowest = _mm512_set1_epi8(static_cast<char>(update.lowest));

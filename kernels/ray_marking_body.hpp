@@ -60,7 +60,8 @@ template <std::size_t N>
 class RayStage {
  public:
   // Where each DdaState field's three axes start among the fields.
-  static constexpr int kV = 0, kLast = 3, kStep = 6, kFace = 9, kInv = 12, kT = 15, kNext = 18, kFields = 21;
+  static constexpr int kV = 0, kBeforeLast = 3, kStep = 6, kNextFace = 9, kInv = 12, kT = 15, kNext = 18,
+                       kFields = 21;
   static constexpr std::size_t kCapacity = 4 * N;
 
   // Field f of a parked lane (no ray left): on cell (0, 0, 0) with nothing
@@ -98,15 +99,16 @@ class RayStage {
         // The cell from which the axis's next crossing leads onto its last
         // cell (the last cell itself for an axis that never moves): where the
         // crossing after that, next, is +inf.
-        fields_[kLast + i][staged_] = static_cast<float>(s.last[i] - s.step[i]);
+        fields_[kBeforeLast + i][staged_] = static_cast<float>(s.last[i] - s.step[i]);
         fields_[kStep + i][staged_] = static_cast<float>(s.step[i]);
         // The face after the one the ray leaves through (face + step, both
         // small integers, exact in floats): the value the next crossing's
         // parameter is computed from, kept so that a step adds one less.
-        fields_[kFace + i][staged_] = s.face[i] + static_cast<float>(s.step[i]);
+        fields_[kNextFace + i][staged_] = s.face[i] + static_cast<float>(s.step[i]);
         fields_[kInv + i][staged_] = s.inv[i];
         fields_[kT + i][staged_] = s.t[i];
-        fields_[kNext + i][staged_] = s.v[i] == s.last[i] - s.step[i] ? std::numeric_limits<float>::infinity() : s.next[i];
+        fields_[kNext + i][staged_] =
+            s.v[i] == s.last[i] - s.step[i] ? std::numeric_limits<float>::infinity() : s.next[i];
       }
       ++staged_;
     }
@@ -137,9 +139,9 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
 #pragma GCC unroll 21
   for (int f = 0; f < Stage::kFields; ++f) state[f] = D(Stage::parked(f));
   D* const vv = state + Stage::kV;
-  D* const lastv = state + Stage::kLast;
+  D* const before_lastv = state + Stage::kBeforeLast;
   D* const stepv = state + Stage::kStep;
-  D* const facev = state + Stage::kFace;
+  D* const next_facev = state + Stage::kNextFace;
   D* const invv = state + Stage::kInv;
   D* const tv = state + Stage::kT;
   D* const nextv = state + Stage::kNext;
@@ -206,9 +208,9 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
     for (int i = 0; i < 3; ++i) {
       const auto stepping = (tv[i] - tie) <= tmin;
       vv[i] = xsimd::select(stepping, vv[i] + stepv[i], vv[i]);
-      facev[i] = xsimd::select(stepping, facev[i] + stepv[i], facev[i]);
+      next_facev[i] = xsimd::select(stepping, next_facev[i] + stepv[i], next_facev[i]);
       tv[i] = xsimd::select(stepping, nextv[i], tv[i]);
-      nextv[i] = xsimd::select(vv[i] == lastv[i], inf, (facev[i] - startv[i]) * invv[i]);
+      nextv[i] = xsimd::select(vv[i] == before_lastv[i], inf, (next_facev[i] - startv[i]) * invv[i]);
     }
     tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
     // A lane has arrived when every axis is done (t = +inf on each), which

@@ -3,9 +3,10 @@
 // preprocessing, the "labels" classifier's BM_MapperDefaultArena rows) fed
 // to a RayIntegrator with the Mapper's own settings, nothing else running:
 // integrate() scan by scan, and integrate_sequence(), which traces the next
-// scan while this one is applied, as the Mapper's stream does. BM_MapperDefaultArena's metric_total_ms over this row's time is how
-// far the users' path is from the benchmark's (PERF.md); both rows are in
-// the same binary so that the ratio is read from one run.
+// scan while this one is applied, as the Mapper's stream does.
+// BM_MapperDefaultArena's metric_total_ms over this row's time is how far
+// the users' path is from the benchmark's (PERF.md); both rows are in the
+// same binary so that the ratio is read from one run.
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 

@@ -62,8 +62,8 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
     box.add(stretch.box());
     most += stretch.keys().size();
   }
-  // Room for every group up front: groups already final never move while
-  // a reader given them by after_stretch goes on.
+  // Room for every group up front: keys already final never move while a
+  // reader given them by progress goes on.
   keys_.reserve(most);
   observations_.reserve(most);
   // Folds every stretch's groups, in order, into the global group whose

@@ -37,6 +37,17 @@ std::size_t ThreadMisses::memory_bytes() const {
   return blocks.memory_bytes() + capacity_bytes(miss) + capacity_bytes(dense);
 }
 
+kernels::DenseMaskGrid ThreadMisses::dense_grid(const kernels::DenseMaskGrid& box) {
+  if (!dense_in_use) {
+    const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(box);
+    if (dense.size() < words) dense.resize(words, 0);  // all zero already
+    dense_in_use = true;
+  }
+  kernels::DenseMaskGrid grid = box;
+  grid.words = dense.data();
+  return grid;
+}
+
 std::uint32_t ThreadMisses::block_index(void* self, std::int32_t bx, std::int32_t by, std::int32_t bz) {
   auto& t = *static_cast<ThreadMisses*>(self);
   const std::uint32_t b = t.blocks.find_or_insert(pack(bx, by, bz));
@@ -112,6 +123,19 @@ struct RayCutter {
   }
 };
 
+// The scan's cutter: every pass casts its rays with the same one.
+RayCutter cutter_for(const RayEnd& origin, const IntegratorSettings& settings, double resolution) {
+  return {origin, resolution, settings.max_range, settings.max_range * (1.0 / resolution),
+          settings.clear_beyond_max_range};
+}
+
+// Rays per call of the dense walk: at least 512 and about 16 calls per
+// scan. The SIMD lanes drain at the end of every call, so short calls leave
+// lanes idle (64 rays measured slower at 1 thread), but with fewer than
+// about ten calls two threads got uneven shares (auto_partitioner made too
+// few ranges at 0.05 m).
+std::size_t walk_grain(std::size_t rays) { return std::max<std::size_t>(512, (rays + 15) / 16); }
+
 }  // namespace
 
 void ScanRays::compute(const IntegratorSettings& settings, double resolution, const PointBuffer& points,
@@ -130,8 +154,7 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
   }
   dense_dirty_ = false;
   const std::span<const LocalEndGroups> stretches = group_points(settings, resolution, points, stats);
-  const RayCutter cutter{origin_, resolution, settings.max_range, settings.max_range * inv_res,
-                         settings.clear_beyond_max_range};
+  const RayCutter cutter = cutter_for(origin_, settings, resolution);
   if (settings.discretize) {
     // Every ray ends in the box of the end voxels or on its way there (cut
     // at the max range), so the grid over that box and the origin holds
@@ -151,6 +174,7 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
   }
   ends_.merge(stretches, settings.dense_dedupe_max_cells);
   count_ends(stats);
+  end_is_hit_.assign(ends_.size(), 1);  // every one a hit until its ray says
   if (settings.discretize) {
     // One ray per end voxel, to its centre, computed in parallel, then the
     // voxels without a ray (beyond range, not clearing) squeezed out.
@@ -180,10 +204,8 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
 // the merge takes in chunk order.
 std::span<const LocalEndGroups> ScanRays::group_points(const IntegratorSettings& settings, double resolution,
                                                        const PointBuffer& points, IntegrationStats& stats) {
-  const RayEnd& o = origin_;
   const double inv_res = 1.0 / resolution;
-  const RayCutter cutter{o, resolution, settings.max_range, settings.max_range * inv_res,
-                         settings.clear_beyond_max_range};
+  const RayCutter cutter = cutter_for(origin_, settings, resolution);
   const auto xs = points.x(), ys = points.y(), zs = points.z();
   const std::span<const std::uint8_t> labels =
       points.has_labels() ? points.labels() : std::span<const std::uint8_t>{};
@@ -260,10 +282,9 @@ std::span<const LocalEndGroups> ScanRays::group_points(const IntegratorSettings&
   return {local_groups_.data(), chunk_count};
 }
 
-void ScanRays::count_ends(IntegrationStats& stats) {
+void ScanRays::count_ends(IntegrationStats& stats) const {
   stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
   stats.end_voxels += ends_.size();
-  end_is_hit_.assign(ends_.size(), 1);
 }
 
 // The merge of pass 1 and the walk of pass 2 at once: this thread merges the
@@ -273,22 +294,17 @@ void ScanRays::count_ends(IntegrationStats& stats) {
 // the other threads idle between the two passes.
 void ScanRays::merge_while_walking(const IntegratorSettings& settings, double resolution,
                                    std::span<const LocalEndGroups> stretches, IntegrationStats& stats) {
-  const RayCutter cutter{origin_, resolution, settings.max_range, settings.max_range * (1.0 / resolution),
-                         settings.clear_beyond_max_range};
+  const RayCutter cutter = cutter_for(origin_, settings, resolution);
   const double start[3] = {origin_.x, origin_.y, origin_.z};
   const kernels::SimdLevel level = kernels::active_simd_level();
   const kernels::DenseMaskGrid grid = *dense_box_;
-  const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(grid);
   std::size_t most = 0;  // end voxels at most: the chunks' groups
   for (const LocalEndGroups& stretch : stretches) most += stretch.keys().size();
   rays_.resize(most);
   end_is_hit_.resize(most);
   dense_dirty_ = true;
   stats.dense_walks += 1;
-  // Stretches of at least 512 rays and about 16 per scan: the SIMD lanes
-  // drain at the end of every call, so short calls leave lanes idle, but too
-  // few stretches share badly between two threads.
-  const std::size_t grain = std::max<std::size_t>(512, (most + 15) / 16);
+  const std::size_t grain = walk_grain(most);
   // Rays [first, last) cast and walked; those with a ray are packed from
   // rays_[first] on (ranges never overlap, so no task sees another's).
   const auto cast_and_walk = [&](const VoxelKey* keys, std::size_t first, std::size_t last) {
@@ -300,13 +316,7 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
       cast += kind == RayKind::None ? 0 : 1;
     }
     ThreadMisses& t = threads_.local();
-    if (!t.dense_in_use) {
-      if (t.dense.size() < words) t.dense.resize(words, 0);  // all zero already
-      t.dense_in_use = true;
-    }
-    kernels::DenseMaskGrid mine = grid;
-    mine.words = t.dense.data();
-    t.visits += kernels::mark_ray_cells_dense(start, &rays_[first].x, cast, mine, level);
+    t.visits += kernels::mark_ray_cells_dense(start, &rays_[first].x, cast, t.dense_grid(grid), level);
     t.rays += cast;
   };
   tbb::task_group walking;
@@ -325,10 +335,8 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
     throw;
   }
   walking.wait();
-  const std::size_t ends = ends_.size();
-  stats.dense_dedupes += ends_.used_dense_table() ? 1 : 0;
-  stats.end_voxels += ends;
-  end_is_hit_.resize(ends);
+  count_ends(stats);
+  end_is_hit_.resize(ends_.size());
   for (const ThreadMisses& t : threads_) {
     stats.rays += t.rays;
     stats.voxel_visits += t.visits;
@@ -345,25 +353,13 @@ void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats)
   dense_box_ = scan_block_box(start, rays_, settings.dense_walk_max_blocks);
   stats.dense_walks += dense_box_ ? 1 : 0;
   if (dense_box_) {
-    const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(*dense_box_);
     dense_dirty_ = true;
-    // About 16-32 ranges per scan, of at least 256 rays: the SIMD lanes
-    // drain at the end of every call, so short calls leave lanes idle (64
-    // rays measured slower at 1 thread), but with fewer than about ten
-    // ranges two threads got uneven shares (auto_partitioner made too few
-    // ranges at 0.05 m).
-    const std::size_t grain = std::max<std::size_t>(512, (rays_.size() + 15) / 16);
+    const std::size_t grain = walk_grain(rays_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), grain),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         ThreadMisses& t = threads_.local();
-                        if (!t.dense_in_use) {
-                          if (t.dense.size() < words) t.dense.resize(words, 0);  // all zero already
-                          t.dense_in_use = true;
-                        }
-                        kernels::DenseMaskGrid grid = *dense_box_;
-                        grid.words = t.dense.data();
                         t.visits += kernels::mark_ray_cells_dense(start, &rays_[range.begin()].x, range.size(),
-                                                                  grid, level);
+                                                                  t.dense_grid(*dense_box_), level);
                       }, tbb::simple_partitioner());
   } else {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), 64),

@@ -45,6 +45,9 @@ struct ThreadMisses {
   bool dense_in_use = false;
 
   void clear();
+  // The box's grid over this thread's words, zeroed and sized to the box the
+  // first time this scan asks (the walks of one scan share one box).
+  kernels::DenseMaskGrid dense_grid(const kernels::DenseMaskGrid& box);
   // Bytes held (key index, masks and dense grid, by capacity).
   std::size_t memory_bytes() const;
   // kernels::BlockMaskSink::block_index: the mask of a block, created empty.
@@ -102,12 +105,12 @@ class ScanRays {
   // Pass 1's merge with pass 2 beside it, into the dense grid dense_box_.
   void merge_while_walking(const IntegratorSettings& settings, double resolution,
                            std::span<const LocalEndGroups> stretches, IntegrationStats& stats);
-  // The end voxels' counts after a merge on its own; every one a hit until its ray says.
-  void count_ends(IntegrationStats& stats);
+  // Adds the merged end voxels' counts to stats.
+  void count_ends(IntegrationStats& stats) const;
   // Pass 2 after the whole of pass 1.
   void walk(const IntegratorSettings& settings, IntegrationStats& stats);
 
-  RayEnd origin_{};  // the scan's sensor origin in voxel units, from find_ends()
+  RayEnd origin_{};  // the scan's sensor origin in voxel units, from compute()
   std::vector<PointChunk> chunks_;
   std::vector<LocalEndGroups> local_groups_;  // per chunk
   EndVoxelGroups ends_;

@@ -11,7 +11,8 @@
 
 namespace sarmap::metric {
 
-static_assert(kernels::kUnknownLogOddsByte == kStoredUnknownLogOdds && kernels::kLogOddsBlockVoxels == kBlockVoxels &&
+static_assert(kernels::kUnknownLogOddsByte == kStoredUnknownLogOdds &&
+                  kernels::kLogOddsBlockVoxels == kBlockVoxels &&
                   kernels::kLogOddsBlockWords == BlockMask{}.size(),
               "the miss kernel reads a block's slab as the map stores it");
 
@@ -163,9 +164,8 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                        update_block(*block_of_index_[b], merged_miss_[b], merged_hit_[b], b, occ, miss_update,
-                                     level, fusion,
-                                     end_keys, observations);
+                        update_block(*block_of_index_[b], merged_miss_[b], merged_hit_[b], b, occ,
+                                     miss_update, level, fusion, end_keys, observations);
                         uniform_after_[b] = SemanticBlocks::uniform_slab(*block_of_index_[b]) ? 1 : 0;
                       }
                     });
@@ -176,8 +176,9 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
 }
 
 void ScanUpdate::update_block(SemanticBlock& block, const BlockMask& miss, const BlockMask& hit,
-                              std::size_t b, const OccupancyModel& occ, const kernels::LogOddsMiss& miss_update,
-                              kernels::SimdLevel level, const LabelFusion& fusion,
+                              std::size_t b, const OccupancyModel& occ,
+                              const kernels::LogOddsMiss& miss_update, kernels::SimdLevel level,
+                              const LabelFusion& fusion,
                               const std::vector<VoxelKey>& end_keys,
                               const std::vector<ClassObservation>& observations) const {
   std::int8_t* log_odds = block.log_odds_slab();

@@ -34,8 +34,8 @@ class ScanUpdate {
   std::uint32_t merged_index(std::uint64_t packed_block);
   // Pass 4 for merged block b: its misses, then its hits.
   void update_block(SemanticBlock& block, const BlockMask& miss, const BlockMask& hit, std::size_t b,
-                    const OccupancyModel& occ, const kernels::LogOddsMiss& miss_update, kernels::SimdLevel level,
-                    const LabelFusion& fusion,
+                    const OccupancyModel& occ, const kernels::LogOddsMiss& miss_update,
+                    kernels::SimdLevel level, const LabelFusion& fusion,
                     const std::vector<VoxelKey>& end_keys,
                     const std::vector<ClassObservation>& observations) const;
 

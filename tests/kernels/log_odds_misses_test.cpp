@@ -63,7 +63,7 @@ TEST(LogOddsMisses, EveryLevelMatchesTheReferenceOnRandomBlocks) {
   std::mt19937_64 rng(20261205);
   std::uniform_int_distribution<int> byte(-128, 127);
   // OctoMap's defaults in 1/32 nat, then bounds and steps at the byte's extremes.
-  const LogOddsMiss updates[] = {{-13, -64, 111, 0},   {-127, -127, 127, 0}, {-1, -127, 127, 127},
+  const LogOddsMiss updates[] = {{-13, -64, 111, 0},     {-127, -127, 127, 0}, {-1, -127, 127, 127},
                                  {127, -127, 127, -127}, {-40, 5, 9, 7},       {-13, -64, 111, -64}};
   for (const LogOddsMiss& update : updates) {
     for (int round = 0; round < 50; ++round) {
@@ -73,10 +73,17 @@ TEST(LogOddsMisses, EveryLevelMatchesTheReferenceOnRandomBlocks) {
       for (auto& word : misses) {
         // Dense, sparse, empty and full words.
         switch (rng() % 4) {
-          case 0: word = rng(); break;
-          case 1: word = rng() & rng() & rng(); break;
-          case 2: word = 0; break;
-          default: word = ~std::uint64_t{0};
+          case 0:
+            word = rng();
+            break;
+          case 1:
+            word = rng() & rng() & rng();
+            break;
+          case 2:
+            word = 0;
+            break;
+          default:
+            word = ~std::uint64_t{0};
         }
       }
       expect_levels_match_reference(block, misses, update);
