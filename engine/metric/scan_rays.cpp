@@ -108,6 +108,13 @@ struct RayCutter {
   double max_range_v;  // the same in voxel units
   bool clear_beyond;
 
+  // Whether the ray to end is a hit (ray_to()'s kind is Hit).
+  bool hits(const RayEnd& end) const {
+    if (max_range == 0) return true;
+    RayEnd unused;
+    return ray_to(end, unused) == RayKind::Hit;
+  }
+
   RayKind ray_to(const RayEnd& end, RayEnd& ray) const {
     const double dx = end.x - origin.x, dy = end.y - origin.y, dz = end.z - origin.z;
     const double length_v = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -153,6 +160,7 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
     if (dense_dirty_) std::fill(t.dense.begin(), t.dense.end(), 0);
   }
   dense_dirty_ = false;
+  grid_hits_.clear();
   const std::span<const LocalEndGroups> stretches = group_points(settings, resolution, points, stats);
   const RayCutter cutter = cutter_for(origin_, settings, resolution);
   if (settings.discretize) {
@@ -301,7 +309,6 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
   std::size_t most = 0;  // end voxels at most: the chunks' groups
   for (const LocalEndGroups& stretch : stretches) most += stretch.keys().size();
   rays_.resize(most);
-  end_is_hit_.resize(most);
   dense_dirty_ = true;
   stats.dense_walks += 1;
   const std::size_t grain = walk_grain(most);
@@ -312,7 +319,6 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
     for (std::size_t u = first; u < last; ++u) {
       const VoxelKey& k = keys[u];
       const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[first + cast]);
-      end_is_hit_[u] = kind == RayKind::Hit ? 1 : 0;
       cast += kind == RayKind::None ? 0 : 1;
     }
     ThreadMisses& t = threads_.local();
@@ -330,13 +336,21 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
       for (; final_groups - handed >= grain; handed += grain) hand_on(handed, handed + grain);
     });
     if (handed < ends_.size()) hand_on(handed, ends_.size());
+    // While the last rays are walked: which ends are hits, listed by grid
+    // block, so that the update's serial part need not list them.
+    end_is_hit_.resize(ends_.size());
+    const std::vector<VoxelKey>& keys = ends_.keys();
+    for (std::size_t u = 0; u < keys.size(); ++u) {
+      const VoxelKey& k = keys[u];
+      end_is_hit_[u] = cutter.hits({k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
+    }
+    grid_hits_.build(grid, keys, end_is_hit_);
   } catch (...) {
     walking.wait();  // the tasks read this frame's locals
     throw;
   }
   walking.wait();
   count_ends(stats);
-  end_is_hit_.resize(ends_.size());
   for (const ThreadMisses& t : threads_) {
     stats.rays += t.rays;
     stats.voxel_visits += t.visits;
@@ -361,6 +375,7 @@ void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats)
                         t.visits += kernels::mark_ray_cells_dense(start, &rays_[range.begin()].x, range.size(),
                                                                   t.dense_grid(*dense_box_), level);
                       }, tbb::simple_partitioner());
+    grid_hits_.build(*dense_box_, ends_.keys(), end_is_hit_);
   } else {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays_.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -375,7 +390,7 @@ void ScanRays::walk(const IntegratorSettings& settings, IntegrationStats& stats)
 
 std::size_t ScanRays::memory_bytes() const {
   std::size_t bytes = capacity_bytes(chunks_) + capacity_bytes(local_groups_) + ends_.memory_bytes() +
-                      capacity_bytes(end_is_hit_) + capacity_bytes(rays_);
+                      capacity_bytes(end_is_hit_) + capacity_bytes(rays_) + grid_hits_.memory_bytes();
   for (const PointChunk& c : chunks_) bytes += capacity_bytes(c.rays);
   for (const LocalEndGroups& g : local_groups_) bytes += g.memory_bytes();
   for (const ThreadMisses& t : threads_) bytes += sizeof(ThreadMisses) + t.memory_bytes();

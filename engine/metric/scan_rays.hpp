@@ -21,6 +21,7 @@
 #include "engine/core/point_buffer.hpp"
 #include "engine/metric/end_voxel_groups.hpp"
 #include "engine/core/flat_key_index.hpp"
+#include "engine/metric/grid_hit_list.hpp"
 #include "engine/metric/integration_settings.hpp"
 #include "kernels/ray_marking.hpp"
 
@@ -79,6 +80,9 @@ class ScanRays {
   // The grid the walk marked into, when the scan's box was small enough;
   // else the threads' masks are per block through their key indices.
   const std::optional<kernels::DenseMaskGrid>& dense_box() const { return dense_box_; }
+  // With a dense box, the hits listed by its blocks (unless one lay outside
+  // it: then not listed()).
+  const GridHitList& hits_by_grid_block() const { return grid_hits_; }
   // Every thread's misses (their union is the scan's). Non-const for
   // ScanUpdate, which clears the dense grids as it merges them and then
   // calls dense_grids_cleared().
@@ -117,6 +121,7 @@ class ScanRays {
   std::vector<std::uint8_t> end_is_hit_;
   std::vector<RayEnd> rays_;
   std::optional<kernels::DenseMaskGrid> dense_box_;
+  GridHitList grid_hits_;
   // Set from a dense walk until ScanUpdate has cleared the grids; if still
   // set at the next compute() (the scan was never applied, or a walk threw),
   // the grids are zeroed there.
