@@ -8,7 +8,10 @@ bool GridHitList::build(const kernels::DenseMaskGrid& grid, std::span<const Voxe
                         std::span<const std::uint8_t> is_hit) {
   listed_ = false;
   const auto extent = [&](int axis) { return static_cast<std::uint32_t>(grid.blocks[axis]); };
-  block_of_hit_.clear();
+  // Each hit's block, counted per block (shifted by one) as it is found.
+  start_.assign(kernels::dense_grid_blocks(grid) + 1, 0);
+  block_of_hit_.resize(ends.size());
+  std::size_t hits = 0;
   for (std::size_t u = 0; u < ends.size(); ++u) {
     if (!is_hit[u]) continue;
     const BlockKey b = block_of(ends[u]);
@@ -17,13 +20,13 @@ bool GridHitList::build(const kernels::DenseMaskGrid& grid, std::span<const Voxe
     const std::uint32_t j = static_cast<std::uint32_t>(b.y - grid.first_block[1]);
     const std::uint32_t k = static_cast<std::uint32_t>(b.z - grid.first_block[2]);
     if (i >= extent(0) || j >= extent(1) || k >= extent(2)) return false;
-    block_of_hit_.push_back(i + extent(0) * (j + extent(1) * k));
+    const std::uint32_t g = i + extent(0) * (j + extent(1) * k);
+    block_of_hit_[hits++] = g;
+    ++start_[g + 1];
   }
-  // Counts per block, shifted by one, then summed into each block's first place.
-  start_.assign(kernels::dense_grid_blocks(grid) + 1, 0);
-  for (const std::uint32_t g : block_of_hit_) ++start_[g + 1];
+  // Summed into each block's first place, then the hits placed in end order.
   for (std::size_t g = 1; g < start_.size(); ++g) start_[g] += start_[g - 1];
-  hits_.resize(block_of_hit_.size());
+  hits_.resize(hits);
   std::size_t h = 0;
   for (std::uint32_t u = 0; u < ends.size(); ++u) {
     if (!is_hit[u]) continue;
