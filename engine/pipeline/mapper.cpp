@@ -12,6 +12,7 @@
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/prefetched_key_walk.hpp"
+#include "engine/core/wake_workers.hpp"
 #include "engine/metric/voxel_key.hpp"
 #include "engine/pipeline/voxel_classes_from_point_map.hpp"
 
@@ -114,6 +115,11 @@ std::uint64_t Mapper::classify_half(Scan& scan, StageProfile& profile, std::vect
     }
     profile.add_count("preprocess", "points_out", static_cast<double>(scan.points.size()));
   }
+  // The metric stage's parallel loops follow the classifier's work (with
+  // the labels as classes, some tens of microseconds): the other threads,
+  // asleep since the last scan's stages, are woken now so that they are
+  // awake when those loops start (wake_workers.hpp).
+  wake_workers();
   const auto timer = profile.time("classify");
   // The input's labels are ground truth (kept as gt_label unless the input
   // carries its own); any classifier but "labels" then overwrites label.
