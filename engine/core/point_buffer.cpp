@@ -1,6 +1,7 @@
 #include "engine/core/point_buffer.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace sarmap {
 
@@ -176,21 +177,38 @@ std::size_t PointBuffer::keep_where(const std::vector<std::uint8_t>& keep) {
   return n - kept;
 }
 
+namespace {
+
+// std::isfinite in a form the compiler vectorises: false for NaN and +-inf.
+inline bool finite(float v) { return std::fabs(v) <= std::numeric_limits<float>::max(); }
+
+}  // namespace
+
+// Both removals count first, in a loop without stores: most scans lose no
+// point, and then nothing is allocated or moved.
 std::size_t PointBuffer::remove_non_finite() {
-  std::vector<std::uint8_t> keep(size());
-  for (std::size_t i = 0; i < keep.size(); ++i) {
-    keep[i] = std::isfinite(x_[i]) && std::isfinite(y_[i]) && std::isfinite(z_[i]);
-  }
+  const std::size_t n = size();
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < n; ++i) removed += !(finite(x_[i]) & finite(y_[i]) & finite(z_[i]));
+  if (removed == 0) return 0;
+  std::vector<std::uint8_t> keep(n);
+  for (std::size_t i = 0; i < n; ++i) keep[i] = finite(x_[i]) & finite(y_[i]) & finite(z_[i]);
   return keep_where(keep);
 }
 
 std::size_t PointBuffer::remove_farther_than(const Eigen::Vector3d& centre, double distance) {
   const double squared = distance * distance;
-  std::vector<std::uint8_t> keep(size());
-  for (std::size_t i = 0; i < keep.size(); ++i) {
-    const double dx = x_[i] - centre.x(), dy = y_[i] - centre.y(), dz = z_[i] - centre.z();
-    keep[i] = dx * dx + dy * dy + dz * dz <= squared;  // false for NaN
-  }
+  const double cx = centre.x(), cy = centre.y(), cz = centre.z();
+  const auto within = [&](std::size_t i) {
+    const double dx = x_[i] - cx, dy = y_[i] - cy, dz = z_[i] - cz;
+    return dx * dx + dy * dy + dz * dz <= squared;  // false for NaN
+  };
+  const std::size_t n = size();
+  std::size_t removed = 0;
+  for (std::size_t i = 0; i < n; ++i) removed += !within(i);
+  if (removed == 0) return 0;
+  std::vector<std::uint8_t> keep(n);
+  for (std::size_t i = 0; i < n; ++i) keep[i] = within(i);
   return keep_where(keep);
 }
 

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <gtest/gtest.h>
 #include <limits>
+#include <random>
+#include <vector>
 
 namespace sarmap {
 namespace {
@@ -70,6 +72,55 @@ TEST(PointBuffer, RemoveNonFiniteKeepsAttributesInStep) {
   EXPECT_EQ(points.labels()[1], 3);
   EXPECT_EQ(points.labels()[2], 4);
   EXPECT_FLOAT_EQ(points.x()[2], 4.0f);
+}
+
+// Both removals against a plain check (std::isfinite; the distance in
+// double) on random points with NaN, +-inf and the largest finite values in
+// every axis, points exactly at the distance, and scans that lose nothing.
+TEST(PointBuffer, RemovalsMatchAPlainCheckAndLeaveWholeScansAlone) {
+  const float specials[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::max(),
+                            -std::numeric_limits<float>::max(), 3.0f};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> coordinate(-5.0f, 5.0f);
+  std::uniform_int_distribution<int> pick(0, 19);
+  const Eigen::Vector3d centre(0.5, -0.25, 1.0);
+  const double distance = 4.0;
+  for (int round = 0; round < 20; ++round) {
+    PointBuffer points;
+    points.enable_labels();
+    for (std::size_t i = 0; i < 300; ++i) {
+      float p[3];
+      for (float& v : p) {
+        const int k = pick(rng);
+        v = round % 4 == 0 || k >= 6 ? coordinate(rng) : specials[k];  // every fourth round: all finite
+      }
+      points.push_back(p[0], p[1], p[2]);
+      points.labels()[i] = static_cast<std::uint8_t>(i % 251);
+    }
+    points.push_back(static_cast<float>(centre.x() + distance), static_cast<float>(centre.y()),
+                     static_cast<float>(centre.z()));  // exactly at the distance: kept
+    points.labels()[points.size() - 1] = 255;
+    std::vector<std::uint8_t> finite_labels, near_labels;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
+      finite_labels.push_back(points.labels()[i]);
+      const Eigen::Vector3d d = Eigen::Vector3d(x, y, z) - centre;
+      if (d.squaredNorm() <= distance * distance) near_labels.push_back(points.labels()[i]);
+    }
+    const std::size_t before = points.size();
+    EXPECT_EQ(points.remove_non_finite(), before - finite_labels.size());
+    EXPECT_EQ(std::vector<std::uint8_t>(points.labels().begin(), points.labels().end()), finite_labels);
+    EXPECT_EQ(points.remove_farther_than(centre, distance), finite_labels.size() - near_labels.size());
+    EXPECT_EQ(std::vector<std::uint8_t>(points.labels().begin(), points.labels().end()), near_labels);
+    EXPECT_EQ(points.labels().back(), 255);
+    // Nothing left to remove: both return 0 and change nothing.
+    const std::vector<float> xs(points.x().begin(), points.x().end());
+    EXPECT_EQ(points.remove_non_finite(), 0u);
+    EXPECT_EQ(points.remove_farther_than(centre, distance), 0u);
+    EXPECT_EQ(std::vector<float>(points.x().begin(), points.x().end()), xs);
+  }
 }
 
 TEST(PointBuffer, SelectAndBounds) {
