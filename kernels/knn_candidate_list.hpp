@@ -177,6 +177,7 @@ inline void insert_candidates_in_registers(std::int64_t* keys, std::uint64_t lan
 #endif
   {
     static_assert(Chunks == 0, "insert_candidates_in_registers: no code for this instruction set");
+    (void)keys, (void)lanes, (void)key_of;  // unused where no branch above is compiled in
   }
 }
 

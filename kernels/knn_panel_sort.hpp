@@ -188,6 +188,8 @@ inline void panel_keys_sorted(std::int64_t* keys, std::size_t chunks, const floa
 #endif
   {
     static_assert(!has_panel_sort<Arch>(), "panel_keys_sorted: no code for this instruction set");
+    // Unused where no branch above is compiled in (a build without AVX2).
+    (void)keys, (void)chunks, (void)rank, (void)passing, (void)ids, (void)first_id, (void)lanes;
   }
 }
 

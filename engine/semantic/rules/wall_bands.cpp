@@ -62,7 +62,7 @@ std::size_t label_wall_bands(PointBuffer& points, const WallBandSettings& s) {
   validate(s);
   if (!s.enabled || !points.has_labels()) return 0;
   require_finite_points(points, "wall bands");
-  const auto xs = points.x(), ys = points.y(), zs = points.z();
+  const auto xs = points.x(), ys = points.y();
   const auto other = static_cast<std::uint8_t>(ClassId::Other), wall = static_cast<std::uint8_t>(ClassId::Wall);
   const auto labels = points.labels();
   const double inv = 1.0 / s.column;
