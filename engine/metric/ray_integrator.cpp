@@ -2,10 +2,11 @@
 // distinct end voxels with their class observations (keys by a vector
 // kernel, kernels/voxel_keys.hpp; grouped locally in parallel, merged in
 // order: end_voxel_groups.hpp) and one ray per end voxel; (2) parallel DDA
-// walks that only set "miss" bits in per-thread masks (no locks, no atomics).
+// walks that only set "miss" bits in per-thread masks (no locks, no atomics),
+// and the hits listed by block (grid_hit_list.hpp).
 // ScanUpdate (scan_update.hpp), into the map: (3) a serial merge of the
-// masks, hits that override misses, blocks created in sorted key order;
-// (4) parallel updates, one block per task.
+// masks, each block's hits found, blocks created in sorted key order;
+// (4) parallel updates, one block per task, hits overriding misses.
 //
 // Passes 1-2 (trace) never read the map, so the next scan's can run while
 // this scan's passes 3-4 (apply) write it: the serial parts of each half

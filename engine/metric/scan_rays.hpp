@@ -3,7 +3,8 @@
 // story). Pass 1 finds the distinct voxels the points end in, with their
 // class observations, and one ray per end voxel (or per point when not
 // discretising); pass 2 walks the rays and sets a bit for every voxel they
-// cross in per-thread block masks. Because nothing here touches the map,
+// cross in per-thread block masks, and (into a dense grid) the hits are
+// listed by the grid's blocks for the update. Because nothing here touches the map,
 // one scan's ScanRays can be computed while the scan before is still being
 // written into the map (RayIntegrator::trace and apply).
 #pragma once
