@@ -162,11 +162,14 @@ PointBuffer PointBuffer::select(std::span<const std::uint32_t> indices) const {
   return out;
 }
 
-std::size_t PointBuffer::keep_where(const std::vector<std::uint8_t>& keep) {
+template <class Keeps>
+std::size_t PointBuffer::keep_where(Keeps keeps) {
   const std::size_t n = size();
   std::size_t kept = 0;
-  for (std::size_t i = 0; i < n; ++i) kept += keep[i];
+  for (std::size_t i = 0; i < n; ++i) kept += keeps(i) ? 1 : 0;  // no stores: the compiler vectorises it
   if (kept == n) return 0;
+  std::vector<std::uint8_t> keep(n);
+  for (std::size_t i = 0; i < n; ++i) keep[i] = keeps(i);
   for_each_array([&keep, n](auto& a) {
     std::size_t out = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -184,32 +187,17 @@ inline bool finite(float v) { return std::fabs(v) <= std::numeric_limits<float>:
 
 }  // namespace
 
-// Both removals count first, in a loop without stores: most scans lose no
-// point, and then nothing is allocated or moved.
 std::size_t PointBuffer::remove_non_finite() {
-  const std::size_t n = size();
-  std::size_t removed = 0;
-  for (std::size_t i = 0; i < n; ++i) removed += !(finite(x_[i]) & finite(y_[i]) & finite(z_[i]));
-  if (removed == 0) return 0;
-  std::vector<std::uint8_t> keep(n);
-  for (std::size_t i = 0; i < n; ++i) keep[i] = finite(x_[i]) & finite(y_[i]) & finite(z_[i]);
-  return keep_where(keep);
+  return keep_where([this](std::size_t i) { return finite(x_[i]) & finite(y_[i]) & finite(z_[i]); });
 }
 
 std::size_t PointBuffer::remove_farther_than(const Eigen::Vector3d& centre, double distance) {
   const double squared = distance * distance;
   const double cx = centre.x(), cy = centre.y(), cz = centre.z();
-  const auto within = [&](std::size_t i) {
+  return keep_where([&](std::size_t i) {
     const double dx = x_[i] - cx, dy = y_[i] - cy, dz = z_[i] - cz;
     return dx * dx + dy * dy + dz * dz <= squared;  // false for NaN
-  };
-  const std::size_t n = size();
-  std::size_t removed = 0;
-  for (std::size_t i = 0; i < n; ++i) removed += !within(i);
-  if (removed == 0) return 0;
-  std::vector<std::uint8_t> keep(n);
-  for (std::size_t i = 0; i < n; ++i) keep[i] = within(i);
-  return keep_where(keep);
+  });
 }
 
 Bounds PointBuffer::bounds() const {

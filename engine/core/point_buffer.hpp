@@ -111,8 +111,11 @@ class PointBuffer {
   void load_state(StateReader& in);
 
  private:
-  // Compacts every array in place, keeping point i where keep[i]; returns how many went.
-  std::size_t keep_where(const std::vector<std::uint8_t>& keep);
+  // Compacts every array in place, keeping point i where keeps(i); returns
+  // how many went. Counts first, so that when none goes (most scans)
+  // nothing is allocated or moved. Defined in point_buffer.cpp, its only user.
+  template <class Keeps>
+  std::size_t keep_where(Keeps keeps);
 
   AlignedVector<float> x_, y_, z_;
   bool has_labels_ = false, has_gt_labels_ = false, has_colors_ = false;
