@@ -4,14 +4,26 @@
 
 namespace sarmap::metric {
 
+void sort_hits_by_block(std::span<const std::uint8_t> is_hit, std::span<const std::uint32_t> block_of_hit,
+                        std::size_t blocks, std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& hits) {
+  // Each block's count, summed into the end of its place; the hits then
+  // placed from the last one back, which leaves start[b] at block b's first.
+  start.assign(blocks + 1, 0);
+  for (const std::uint32_t b : block_of_hit) ++start[b];
+  for (std::size_t b = 1; b < blocks; ++b) start[b] += start[b - 1];
+  start[blocks] = static_cast<std::uint32_t>(block_of_hit.size());
+  hits.resize(block_of_hit.size());
+  std::size_t k = block_of_hit.size();
+  for (std::size_t u = is_hit.size(); u-- > 0;) {
+    if (is_hit[u]) hits[--start[block_of_hit[--k]]] = static_cast<std::uint32_t>(u);
+  }
+}
+
 bool GridHitList::build(const kernels::DenseMaskGrid& grid, std::span<const VoxelKey> ends,
                         std::span<const std::uint8_t> is_hit) {
   listed_ = false;
   const auto extent = [&](int axis) { return static_cast<std::uint32_t>(grid.blocks[axis]); };
-  // Each hit's block, counted per block (shifted by one) as it is found.
-  start_.assign(kernels::dense_grid_blocks(grid) + 1, 0);
-  block_of_hit_.resize(ends.size());
-  std::size_t hits = 0;
+  block_of_hit_.clear();
   for (std::size_t u = 0; u < ends.size(); ++u) {
     if (!is_hit[u]) continue;
     const BlockKey b = block_of(ends[u]);
@@ -20,21 +32,9 @@ bool GridHitList::build(const kernels::DenseMaskGrid& grid, std::span<const Voxe
     const std::uint32_t j = static_cast<std::uint32_t>(b.y - grid.first_block[1]);
     const std::uint32_t k = static_cast<std::uint32_t>(b.z - grid.first_block[2]);
     if (i >= extent(0) || j >= extent(1) || k >= extent(2)) return false;
-    const std::uint32_t g = i + extent(0) * (j + extent(1) * k);
-    block_of_hit_[hits++] = g;
-    ++start_[g + 1];
+    block_of_hit_.push_back(i + extent(0) * (j + extent(1) * k));
   }
-  // Summed into each block's first place, then the hits placed in end order.
-  for (std::size_t g = 1; g < start_.size(); ++g) start_[g] += start_[g - 1];
-  hits_.resize(hits);
-  std::size_t h = 0;
-  for (std::uint32_t u = 0; u < ends.size(); ++u) {
-    if (!is_hit[u]) continue;
-    hits_[start_[block_of_hit_[h++]]++] = u;
-  }
-  // Each block's place has moved to the next block's first: shift back.
-  for (std::size_t g = start_.size() - 1; g > 0; --g) start_[g] = start_[g - 1];
-  start_[0] = 0;
+  sort_hits_by_block(is_hit, block_of_hit_, kernels::dense_grid_blocks(grid), start_, hits_);
   listed_ = true;
   return true;
 }

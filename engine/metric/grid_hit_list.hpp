@@ -15,6 +15,14 @@
 
 namespace sarmap::metric {
 
+// The counting sort both listings of a scan's hits use (GridHitList by
+// grid block, ScanUpdate by merged block when there is no such list): the
+// ends u with is_hit[u], the k-th of them in block block_of_hit[k] (below
+// blocks), listed by block and in end order within one. Block b's hits are
+// hits[start[b] .. start[b + 1]) (start gets blocks + 1 entries).
+void sort_hits_by_block(std::span<const std::uint8_t> is_hit, std::span<const std::uint32_t> block_of_hit,
+                        std::size_t blocks, std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& hits);
+
 class GridHitList {
  public:
   // Lists every end u with is_hit[u] by its block of grid, in end order

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/core/capacity_bytes.hpp"
+#include "engine/metric/grid_hit_list.hpp"
 #include "kernels/log_odds_misses.hpp"
 
 namespace sarmap::metric {
@@ -93,16 +94,8 @@ void ScanUpdate::list_hits_by_merged_block(const std::vector<VoxelKey>& end_keys
   for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
     if (is_hit[u]) hit_block_.push_back(merged_index(pack(block_of(end_keys[u]))));  // created if no ray crossed it
   }
-  // A counting sort by block, stable in end order.
-  hit_start_.assign(merged_miss_.size() + 1, 0);
-  for (const std::uint32_t b : hit_block_) ++hit_start_[b + 1];
-  for (std::size_t b = 1; b < hit_start_.size(); ++b) hit_start_[b] += hit_start_[b - 1];
-  for (std::size_t b = 0; b < hit_range_.size(); ++b) hit_range_[b] = {hit_start_[b], hit_start_[b]};
-  hit_list_.resize(hit_block_.size());
-  std::size_t h = 0;
-  for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
-    if (is_hit[u]) hit_list_[hit_range_[hit_block_[h++]].end++] = u;
-  }
+  sort_hits_by_block(is_hit, hit_block_, merged_miss_.size(), hit_start_, hit_list_);
+  for (std::size_t b = 0; b < hit_range_.size(); ++b) hit_range_[b] = {hit_start_[b], hit_start_[b + 1]};
 }
 
 void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) {

@@ -51,8 +51,8 @@ class ScanUpdate {
   std::vector<SemanticBlock*> block_of_index_;
   std::vector<std::uint8_t> uniform_after_;     // per merged block: its log-odds all equal after pass 4
   std::vector<std::uint32_t> misses_of_block_;  // per merged block: voxels updated as free
-  // list_hits_by_merged_block(): the hits in merged block order (a counting
-  // sort of each hit's block, hit_block_, counted into hit_start_).
+  // list_hits_by_merged_block(): the hits in merged block order
+  // (sort_hits_by_block of each hit's block, hit_block_, into hit_start_).
   std::vector<std::uint32_t> hit_list_, hit_block_, hit_start_;
 };
 
