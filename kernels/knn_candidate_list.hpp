@@ -136,7 +136,7 @@ constexpr std::size_t max_register_chunks() {
 // which the caller never reads), so the caller need not test it first.
 template <class Arch, std::size_t Chunks, class KeyOf>
 inline void insert_candidates_in_registers(std::int64_t* keys, std::uint64_t lanes, KeyOf key_of) {
-  constexpr std::size_t KL = keys_per_vector<Arch>();
+  [[maybe_unused]] constexpr std::size_t KL = keys_per_vector<Arch>();  // unused where no branch below is compiled in
 #if defined(__AVX512F__)
   if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
     __m512i v[Chunks];

@@ -123,7 +123,7 @@ inline void bitonic_sort(Vectors& v) {
 template <class Arch>
 inline void panel_keys_sorted(std::int64_t* keys, std::size_t chunks, const float* rank, std::uint64_t passing,
                               const std::uint32_t* ids, std::uint32_t first_id, std::size_t lanes) {
-  constexpr std::int64_t kNoKey = std::numeric_limits<std::int64_t>::max();
+  [[maybe_unused]] constexpr std::int64_t kNoKey = std::numeric_limits<std::int64_t>::max();  // likewise
 #if defined(__AVX512F__)
   if constexpr (std::is_base_of_v<xsimd::avx512f, Arch>) {
     __m512i v[4];
