@@ -10,14 +10,15 @@
 // already +inf where it would lead past the last cell (RayStage).
 // Cells are held as floats too (integers below 2^24 are exact in a float).
 // A lane whose ray reaches its end cell takes the next ray, set up ahead in
-// a RayStage. walk_ray_lanes() does that and hands each step's cells to a
-// marker, which finds the word and bit of each lane's cell in vector code
-// and ORs them in scalar code one step later: a scalar load right after the
-// vector store of the same step waited for the store to commit (store
-// forwarding does not split a vector store), which cost more than the step
-// itself. Two markers: BlockSinkMarker asks a sink for a lane's block when
-// the lane enters a new one (one step in eight or so); DenseGridMarker
-// computes the word in a dense grid of blocks and needs no look-up at all.
+// a RayStage, at the next refill (one every kStepsPerRefill steps).
+// walk_ray_lanes() does that and hands each step's cells to a marker, which
+// finds the word and bit of each lane's cell in vector code and ORs them in
+// scalar code one step later: a scalar load right after the vector store
+// of the same step waited for the store to commit (store forwarding does
+// not split a vector store), which cost more than the step itself. Two
+// markers: BlockSinkMarker asks a sink for a lane's block when the lane
+// enters a new one (one step in eight or so); DenseGridMarker computes the
+// word in a dense grid of blocks and needs no look-up at all.
 #pragma once
 
 #include <xsimd/xsimd.hpp>
@@ -120,6 +121,13 @@ class RayStage {
   alignas(64) float fields_[kFields][kCapacity];
 };
 
+// Steps between two refills of the lanes whose rays arrived. Refilled at
+// once, the lanes took a branch on arrival about every fifth step, taken
+// at random and mispredicted; a lane now idles for up to this many steps
+// after its ray arrives, a few percent of the lane steps against a
+// mispredicted branch every few steps (the A/B is in docs/perf-history.md).
+inline constexpr int kStepsPerRefill = 8;
+
 // Walks the rays to ends[3 r ..] from start, N at a time, calling
 // marker.record(cells, active, buffer) with each step's cells (3 vectors,
 // one per axis, lanes not in active hold nothing to mark) and then
@@ -195,30 +203,38 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   if (active == 0) return 0;
 
   D tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
+  constexpr unsigned kAllLanes = N == 16 ? 0xffffu : (1u << N) - 1u;
   while (true) {
-    marker.record(vv, active, parity);
-    marker.mark(parity ^ 1);
-    visits += static_cast<std::size_t>(std::popcount(active));
-    parity ^= 1;
+    // kStepsPerRefill steps without a branch on the data: a lane whose ray
+    // arrives leaves `active` and idles until the refill below.
+#pragma GCC unroll 1
+    for (int k = 0; k < kStepsPerRefill; ++k) {
+      marker.record(vv, active, parity);
+      marker.mark(parity ^ 1);
+      visits += static_cast<std::size_t>(std::popcount(active));
+      parity ^= 1;
 
-    // dda_step() on every lane. An axis that steps takes next as it is (+inf
-    // once on its last cell, decided off the chain below), and the minimum
-    // of the crossings is taken once per step, for the next step and the
-    // arrival test alike.
-    for (int i = 0; i < 3; ++i) {
-      const auto stepping = (tv[i] - tie) <= tmin;
-      vv[i] = xsimd::select(stepping, vv[i] + stepv[i], vv[i]);
-      next_facev[i] = xsimd::select(stepping, next_facev[i] + stepv[i], next_facev[i]);
-      tv[i] = xsimd::select(stepping, nextv[i], tv[i]);
-      nextv[i] = xsimd::select(vv[i] == before_lastv[i], inf, (next_facev[i] - startv[i]) * invv[i]);
+      // dda_step() on every lane. An axis that steps takes next as it is
+      // (+inf once on its last cell, decided off the chain below), and the
+      // minimum of the crossings is taken once per step, for the next step
+      // and the arrival test alike. Idle lanes step too, harmlessly: they
+      // mark nothing and are overwritten when refilled.
+      for (int i = 0; i < 3; ++i) {
+        const auto stepping = (tv[i] - tie) <= tmin;
+        vv[i] = xsimd::select(stepping, vv[i] + stepv[i], vv[i]);
+        next_facev[i] = xsimd::select(stepping, next_facev[i] + stepv[i], next_facev[i]);
+        tv[i] = xsimd::select(stepping, nextv[i], tv[i]);
+        nextv[i] = xsimd::select(vv[i] == before_lastv[i], inf, (next_facev[i] - startv[i]) * invv[i]);
+      }
+      tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
+      // A lane has arrived when every axis is done (t = +inf on each), which
+      // is exactly when its cell is the end cell: an axis's t becomes +inf
+      // only as it steps onto its last cell, or from the start when it never moves.
+      active &= ~lane_bits<Arch>(tmin == inf);
     }
-    tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
-    // A lane has arrived when every axis is done (t = +inf on each), which
-    // is exactly when its cell is the end cell: an axis's t becomes +inf
-    // only as it steps onto its last cell, or from the start when it never moves.
-    const unsigned arrived = lane_bits<Arch>(tmin == inf) & active;
-    if (arrived != 0) {
-      refill(arrived);
+    const unsigned idle = kAllLanes & ~active;
+    if (idle != 0) {
+      refill(idle);
       if (active == 0) break;
       tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
     }

@@ -171,6 +171,17 @@ TEST(RayMarking, LanesOfVeryDifferentLengthsAndFewRays) {
   for (std::size_t n : {0u, 1u, 3u, 9u}) {
     expect_same_cells(start, std::vector<double>(ends.begin(), ends.begin() + 3 * n), "a few rays");
   }
+  // Lanes are refilled every few steps: rays of one to three cells arrive
+  // between two refills, some lanes several times over a long one's walk.
+  std::vector<double> short_ends;
+  for (int r = 0; r < 101; ++r) {
+    const double length = r % 17 == 0 ? 40.0 : 0.6 + 0.9 * (r % 3);
+    const double a = 0.61 * r, b = 0.23 * r;
+    short_ends.insert(short_ends.end(),
+                      {start[0] + length * std::cos(a) * std::cos(b), start[1] + length * std::sin(a) * std::cos(b),
+                       start[2] + length * std::sin(b)});
+  }
+  expect_same_cells(start, short_ends, "rays shorter than a refill's steps");
 }
 
 TEST(RayMarking, FarFromTheOriginAndStartsOnTheEdgeOfACell) {
