@@ -192,7 +192,10 @@ TEST(RayMarking, FarFromTheOriginAndStartsOnTheEdgeOfACell) {
   std::uniform_real_distribution<double> around(-60.0, 60.0);
   for (const std::array<double, 3> start :
        {std::array<double, 3>{999999.25, -999999.75, 1048000.5}, std::array<double, 3>{-1048575.5, 524287.999999999, 3.0},
-        std::array<double, 3>{7.999999999, -0.000000001, 0.99999999999}}) {
+        std::array<double, 3>{7.999999999, -0.000000001, 0.99999999999},
+        // On a grid vertex: the end a hair below (-1e-50) rounds to -0 in
+        // float, which dda_setup() keeps below 0 (else 1 / (end - start) = -inf).
+        std::array<double, 3>{0.0, 0.0, 0.0}}) {
     std::vector<double> ends;
     for (int r = 0; r < 300; ++r) {
       for (int i = 0; i < 3; ++i) ends.push_back(start[i] + around(rng));
