@@ -38,6 +38,9 @@ namespace sarmap::kernels {
 
 // 2^-20: parameters closer than this are one crossing.
 inline constexpr float kDdaTieParameter = 1.0f / 1048576.0f;
+// 2^-24, the gap below 1.0f: dda_setup() keeps a start's place in its cell
+// below 1 and a local end below 0 by this much (also ray_marking's vector set-up).
+inline constexpr float kDdaBelowOneGap = 1.0f / 16777216.0f;
 
 // A ray's walking state. Crossing parameters are fractions of the segment
 // and are always recomputed from the face coordinate, never accumulated, so
@@ -55,8 +58,7 @@ struct DdaState {
 // start and end in cell units (coordinate / cell size: faces at integers).
 inline DdaState dda_setup(const double start[3], const double end[3]) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
-  constexpr float kBelowOneGap = 1.0f / 16777216.0f;  // 2^-24, the gap below 1.0f
-  constexpr float kBelowOne = 1.0f - kBelowOneGap;
+  constexpr float kBelowOne = 1.0f - kDdaBelowOneGap;
   DdaState s;
   for (int i = 0; i < 3; ++i) {
     const double origin = std::floor(start[i]);
@@ -71,7 +73,7 @@ inline DdaState dda_setup(const double start[3], const double end[3]) {
     // tiny negative would round to -0), so end - start is never 0.
     s.step[i] = s.last[i] > s.v[i] ? 1 : (s.last[i] < s.v[i] ? -1 : 0);
     const float end_rounded = static_cast<float>(end[i] - origin);
-    const float end_local = s.step[i] < 0 && end_rounded > -kBelowOneGap ? -kBelowOneGap : end_rounded;
+    const float end_local = s.step[i] < 0 && end_rounded > -kDdaBelowOneGap ? -kDdaBelowOneGap : end_rounded;
     s.face[i] = s.step[i] > 0 ? 1.0f : 0.0f;
     s.inv[i] = s.step[i] != 0 ? 1.0f / (end_local - s.start[i]) : 0.0f;
     s.t[i] = s.step[i] != 0 ? (s.face[i] - s.start[i]) * s.inv[i] : kInf;

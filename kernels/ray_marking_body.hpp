@@ -80,6 +80,9 @@ class RayStage {
     return staged_ - cursor_;
   }
   const float* field(int f) const { return &fields_[f][cursor_]; }
+  // The start's cell and its place in it (dda_setup() from the start to
+  // itself), the same for every ray.
+  const DdaState& at_start() const { return at_start_; }
   void take(std::size_t n) { cursor_ += n; }
 
  private:
@@ -92,9 +95,13 @@ class RayStage {
 #if defined(__AVX512F__)
     if constexpr (N == 16) {
       top_up_16();
-      return;
-    }
+    } else
 #endif
+      top_up_one_by_one();
+  }
+
+  // top_up()'s filling, one ray at a time with the scalar dda_setup().
+  void top_up_one_by_one() {
     while (staged_ < kCapacity && taken_ < stretch_ * N) {
       const std::size_t k = taken_++;
       const std::size_t r = (k % N) * stretch_ + k / N;
@@ -125,13 +132,13 @@ class RayStage {
   // top_up() on AVX-512, 16 rays at a time (one from each stretch, in the
   // same order), with dda_setup()'s operations in vector form: each lane
   // holds the values the scalar set-up gives its ray, bit for bit (the same
-  // roundings, an IEEE division). Set up one by one, rays cost about a
-  // quarter of the walk.
+  // roundings, an IEEE division). Set up one by one, the rays took a large
+  // part of the walk (docs/perf-history.md).
   void top_up_16() {
     const __m512i lane = _mm512_set_epi32(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
     const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
     const __m512 one = _mm512_set1_ps(1.0f);
-    const __m512 minus_below_one_gap = _mm512_set1_ps(-1.0f / 16777216.0f);  // as dda_setup()
+    const __m512 minus_below_one_gap = _mm512_set1_ps(-kDdaBelowOneGap);
     while (staged_ < kCapacity && taken_ < stretch_ * N) {
       const std::size_t q = taken_ / N;  // the rays q, stretch + q, 2 stretch + q, ...
       taken_ += N;
@@ -188,7 +195,7 @@ class RayStage {
   const double* start_;
   const double* ends_;
   std::size_t count_, stretch_, taken_ = 0, staged_ = 0, cursor_ = 0;
-  DdaState at_start_;  // the start's cell and place in it, the same for every ray
+  DdaState at_start_;  // at_start()
   // kCapacity rays and room for one more group of N set up at once.
   alignas(64) float fields_[kFields][kCapacity + N];
 };
@@ -225,10 +232,10 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   D* const invv = state + Stage::kInv;
   D* const tv = state + Stage::kT;
   D* const nextv = state + Stage::kNext;
-  const DdaState at_start = dda_setup(start, start);
+  Stage stage(start, ends, count);
+  const DdaState& at_start = stage.at_start();
   const D startv[3] = {D(at_start.start[0]), D(at_start.start[1]), D(at_start.start[2])};
   const D inf(kInf), tie(kDdaTieParameter);
-  Stage stage(start, ends, count);
   unsigned active = 0;
   std::size_t visits = 0, parity = 0;
 
@@ -271,11 +278,11 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
     stage.take(static_cast<std::size_t>(std::popcount(fill)));
     active = (active & ~lanes) | fill;
   };
-  refill((N == 16 ? 0xffffu : (1u << N) - 1u));
+  constexpr unsigned kAllLanes = N == 16 ? 0xffffu : (1u << N) - 1u;
+  refill(kAllLanes);
   if (active == 0) return 0;
 
   D tmin = xsimd::min(xsimd::min(tv[0], tv[1]), tv[2]);
-  constexpr unsigned kAllLanes = N == 16 ? 0xffffu : (1u << N) - 1u;
   while (true) {
     // kStepsPerRefill steps without a branch on the data: a lane whose ray
     // arrives leaves `active` and idles until the refill below.
