@@ -25,11 +25,10 @@
 #include <exception>
 #include <string>
 
-#include <tbb/global_control.h>
-#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "engine/core/error.hpp"
+#include "engine/core/usable_threads.hpp"
 #include "engine/metric/scan_rays.hpp"
 #include "engine/metric/scan_update.hpp"
 
@@ -139,9 +138,7 @@ std::vector<IntegrationStats> RayIntegrator::integrate_sequence(MetricMap& map, 
     }
   } const recount{s};
   std::vector<IntegrationStats> stats(scans.size());
-  // The arena's threads, as limited by an arena of one or a global_control.
-  const std::size_t threads = std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
-                                       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const std::size_t threads = usable_threads();
   const auto named = [](std::size_t k, const Error& e) {
     return Error(e.code(), "scan " + std::to_string(k) + ": " + e.what());
   };
