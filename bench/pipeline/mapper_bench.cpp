@@ -7,13 +7,14 @@
 // scan it reports each stage's mean and p95 and the per-scan latency from the
 // Mapper's own profile, so one run names the slowest stage, and the metric
 // stage's sum to set beside the integrator alone on the same points
-// (mapper_integrator_alone_bench.cpp).
+// (mapper_integrator_alone_bench.cpp; the labels rows' "_min" with its).
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
 #include <string>
 #include <vector>
 
+#include "bench/metric/fastest_run.hpp"
 #include "bench/metric/sequence_fixture.hpp"
 #include "engine/pipeline/mapper.hpp"
 #include "engine/sim/simulator.hpp"
@@ -78,9 +79,20 @@ void BM_MapperDefaultArena(benchmark::State& state) {
   state.counters["latency_p50_ms"] = last.latency().p50_s * 1e3;
   state.counters["latency_p95_ms"] = last.latency().p95_s * 1e3;
 }
+// The labels rows, a second each, run three times with the fastest run's
+// figures as "_min" (every counter's minimum), as the integrator alone
+// reports its own: their metric stage is set beside it, and one run carries
+// the machine's noise in full. The DGCNN rows, several seconds each, run once.
 BENCHMARK(BM_MapperDefaultArena)
     ->ArgNames({"classifier", "threads", "overlap"})
-    ->ArgsProduct({{0, 1, 2, 3}, {1, 2}, {0, 1}})
+    ->ArgsProduct({{0}, {1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ComputeStatistics("min", sarmap::bench::fastest);
+BENCHMARK(BM_MapperDefaultArena)
+    ->ArgNames({"classifier", "threads", "overlap"})
+    ->ArgsProduct({{1, 2, 3}, {1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(1);
