@@ -24,6 +24,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -47,6 +48,26 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
     return static_cast<unsigned>(_mm256_movemask_ps(b));
   }
 }
+
+#if defined(__AVX2__)
+// Per mask of 8 lanes, the lanes whose bits are set, in order, then the
+// rest: a permutation that packs the set lanes to the front.
+struct alignas(32) PackLanes8 : std::array<std::int32_t, 8> {};
+constexpr std::array<PackLanes8, 256> pack_lanes_8() {
+  std::array<PackLanes8, 256> table{};
+  for (unsigned mask = 0; mask < 256; ++mask) {
+    int n = 0;
+    for (int l = 0; l < 8; ++l) {
+      if ((mask >> l) & 1u) table[mask][n++] = l;
+    }
+    for (int l = 0; l < 8; ++l) {
+      if (!((mask >> l) & 1u)) table[mask][n++] = l;
+    }
+  }
+  return table;
+}
+inline constexpr std::array<PackLanes8, 256> kPackLanes8 = pack_lanes_8();
+#endif
 
 // Rays set up ahead for the lanes, field by field: the 21 floats of a
 // DdaState in lanes' form (cells as floats; face, last and next one step
@@ -95,6 +116,11 @@ class RayStage {
 #if defined(__AVX512F__)
     if constexpr (N == 16) {
       top_up_16();
+    } else
+#endif
+#if defined(__AVX2__)
+    if constexpr (N == 8) {
+      top_up_8();
     } else
 #endif
       top_up_one_by_one();
@@ -188,6 +214,73 @@ class RayStage {
       const __mmask16 kept = moves & exists;
       for (int f = 0; f < kFields; ++f) _mm512_storeu_ps(&fields_[f][staged_], _mm512_maskz_compress_ps(kept, field[f]));
       staged_ += static_cast<std::size_t>(std::popcount(unsigned{kept}));
+    }
+  }
+#endif
+
+#if defined(__AVX2__)
+  // top_up() on AVX2, 8 rays at a time: top_up_16()'s operations in 256-bit
+  // form (two gathers of four doubles per axis), the rays that move packed
+  // to the front through a permutation per lane mask (AVX2 has no compress).
+  void top_up_8() {
+    const __m256i lane = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+    const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256 minus_below_one_gap = _mm256_set1_ps(-kDdaBelowOneGap);
+    while (staged_ < kCapacity && taken_ < stretch_ * N) {
+      const std::size_t q = taken_ / N;  // the rays q, stretch + q, 2 stretch + q, ...
+      taken_ += N;
+      const __m256i ray = _mm256_add_epi32(_mm256_mullo_epi32(lane, _mm256_set1_epi32(static_cast<std::int32_t>(stretch_))),
+                                           _mm256_set1_epi32(static_cast<std::int32_t>(q)));
+      // Ray indices and counts are below 2^31: a signed compare will do.
+      const __m256i exists = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<std::int32_t>(count_)), ray);
+      const __m256d exists_low = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_castsi256_si128(exists)));
+      const __m256d exists_high = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm256_extracti128_si256(exists, 1)));
+      const __m256i first_coordinate = _mm256_mullo_epi32(ray, _mm256_set1_epi32(3));
+      __m256 field[kFields];
+      __m256i moves = _mm256_setzero_si256();
+      for (int i = 0; i < 3; ++i) {
+        // The end's coordinate (the start's where there is no ray: it does
+        // not move), its cell, and its place relative to the start's cell.
+        const __m256i index = _mm256_add_epi32(first_coordinate, _mm256_set1_epi32(i));
+        const __m256d missing = _mm256_set1_pd(start_[i]);
+        const __m256d end_low = _mm256_mask_i32gather_pd(missing, ends_, _mm256_castsi256_si128(index), exists_low, 8);
+        const __m256d end_high =
+            _mm256_mask_i32gather_pd(missing, ends_, _mm256_extracti128_si256(index, 1), exists_high, 8);
+        const __m256i last = _mm256_set_m128i(
+            _mm256_cvttpd_epi32(_mm256_round_pd(end_high, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)),
+            _mm256_cvttpd_epi32(_mm256_round_pd(end_low, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)));
+        const __m256d origin = _mm256_set1_pd(static_cast<double>(at_start_.v[i]));
+        const __m256 end_rounded = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_sub_pd(end_high, origin)),
+                                                   _mm256_cvtpd_ps(_mm256_sub_pd(end_low, origin)));
+        const __m256i v = _mm256_set1_epi32(at_start_.v[i]);
+        const __m256i up = _mm256_cmpgt_epi32(last, v), down = _mm256_cmpgt_epi32(v, last);  // all ones where true
+        const __m256i step = _mm256_sub_epi32(down, up);  // 0 - (-1) = 1 up, -1 - 0 = -1 down
+        const __m256 stepf = _mm256_cvtepi32_ps(step);
+        const __m256 down_ps = _mm256_castsi256_ps(down), moving = _mm256_castsi256_ps(_mm256_or_si256(up, down));
+        const __m256 end_local = _mm256_blendv_ps(
+            end_rounded, minus_below_one_gap,
+            _mm256_and_ps(down_ps, _mm256_cmp_ps(end_rounded, minus_below_one_gap, _CMP_GT_OQ)));
+        const __m256 start = _mm256_set1_ps(at_start_.start[i]);
+        const __m256 face = _mm256_and_ps(_mm256_castsi256_ps(up), one);
+        // Lanes that do not move divide too, and their quotient is dropped for 0.
+        const __m256 inv = _mm256_and_ps(moving, _mm256_div_ps(one, _mm256_sub_ps(end_local, start)));
+        const __m256 t = _mm256_blendv_ps(inf, _mm256_mul_ps(_mm256_sub_ps(face, start), inv), moving);
+        const __m256 next = _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(face, stepf), start), inv);
+        const __m256i before_last = _mm256_sub_epi32(last, step);
+        field[kV + i] = _mm256_set1_ps(static_cast<float>(at_start_.v[i]));
+        field[kBeforeLast + i] = _mm256_cvtepi32_ps(before_last);
+        field[kStep + i] = stepf;
+        field[kNextFace + i] = _mm256_add_ps(face, stepf);
+        field[kInv + i] = inv;
+        field[kT + i] = t;
+        field[kNext + i] = _mm256_blendv_ps(next, inf, _mm256_castsi256_ps(_mm256_cmpeq_epi32(v, before_last)));
+        moves = _mm256_or_si256(moves, _mm256_castps_si256(moving));
+      }
+      const auto kept = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_and_si256(moves, exists))));
+      const __m256i packed = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPackLanes8[kept].data()));
+      for (int f = 0; f < kFields; ++f) _mm256_storeu_ps(&fields_[f][staged_], _mm256_permutevar8x32_ps(field[f], packed));
+      staged_ += static_cast<std::size_t>(std::popcount(kept));
     }
   }
 #endif
