@@ -34,13 +34,10 @@ LabelFusion::LabelFusion(const LabelFusionSettings& s) : settings_(s) {
   }
 }
 
-void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) const {
+void LabelFusion::observe_mixed(ClassEvidence& evidence, const ClassObservation& obs, std::uint32_t classified) const {
   // A point labelled unknown says nothing about the voxel's class (a block
   // too sparse to classify, or one the map-level classifier has not reached
-  // yet): only the others count.
-  const std::uint32_t unknown = std::min<std::uint32_t>(obs.counts[0], obs.points);
-  const std::uint32_t classified = obs.points - unknown;
-  if (classified == 0) return;
+  // yet): only the others count (classified).
   if (settings_.fusion == ClassFusion::Histogram) {
     // The new counts saturate too: a close voxel can take more points in
     // one scan than a byte holds.
@@ -51,16 +48,8 @@ void LabelFusion::observe(ClassEvidence& evidence, const ClassObservation& obs) 
     return;
   }
   // Bayesian: p(c | z) from the mean of the points' distributions; each class
-  // gains log p(c|z) - log p(pivot|z), the pivot being class 0.
-  if (!obs.has_scores) {
-    for (std::size_t l = 1; l < kClassCount; ++l) {
-      if (obs.counts[l] != classified) continue;
-      for (std::size_t c = 1; c < kClassCount; ++c) {
-        evidence[c] = static_cast<std::int16_t>(std::clamp(evidence[c] + unanimous_[l][c], -clamp_, clamp_));
-      }
-      return;
-    }
-  }
+  // gains log p(c|z) - log p(pivot|z), the pivot being class 0 (observe()
+  // has added unanimous_ where every point had one label).
   std::array<double, kClassCount> p{};
   const double n = classified;
   if (obs.has_scores) {

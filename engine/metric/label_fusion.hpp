@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <cstring>
 #include <string_view>
 
 #include "engine/core/classes.hpp"
@@ -81,17 +80,25 @@ class LabelFusion {
   // One update per voxel per scan, with everything its points said; points
   // labelled unknown say nothing, and a voxel that only they hit keeps its
   // evidence.
-  void observe(ClassEvidence& evidence, const ClassObservation& observation) const;
+  // Inline where every classified point has one label (without scores),
+  // the common case: the integrator calls it for every hit voxel.
+  void observe(ClassEvidence& evidence, const ClassObservation& observation) const {
+    const std::uint32_t classified = classified_points(observation);
+    if (classified == 0) return;
+    if (settings_.fusion == ClassFusion::Bayesian && !observation.has_scores) {
+      for (std::size_t l = 1; l < kClassCount; ++l) {
+        if (observation.counts[l] != classified) continue;
+        for (std::size_t c = 1; c < kClassCount; ++c) {
+          evidence[c] = static_cast<std::int16_t>(std::clamp(evidence[c] + unanimous_[l][c], -clamp_, clamp_));
+        }
+        return;
+      }
+    }
+    observe_mixed(evidence, observation, classified);
+  }
   // A miss that leaves the voxel free: evidence shrinks towards none.
   // Inline: called for every free voxel of every scan.
   void decay(ClassEvidence& evidence) const {
-    // Most free voxels never held a class: one 12-byte test instead of six
-    // multiply-divides (and no store, so the voxel's line stays clean).
-    std::uint64_t lo;
-    std::uint32_t hi;
-    std::memcpy(&lo, evidence.data(), sizeof lo);
-    std::memcpy(&hi, evidence.data() + 4, sizeof hi);
-    if ((lo | hi) == 0) return;
     for (auto& e : evidence) e = static_cast<std::int16_t>(e * keep_q8_ / 256);
   }
   // The class with the most evidence (lowest id on ties); Unknown when none has any.
@@ -100,6 +107,13 @@ class LabelFusion {
   int evidence_clamp_units() const { return clamp_; }
 
  private:
+  // Points that say a class: those labelled unknown say nothing.
+  static std::uint32_t classified_points(const ClassObservation& obs) {
+    return obs.points - std::min<std::uint32_t>(obs.counts[0], obs.points);
+  }
+  // observe() for histograms, scores and voxels whose points disagree.
+  void observe_mixed(ClassEvidence& evidence, const ClassObservation& observation, std::uint32_t classified) const;
+
   LabelFusionSettings settings_;
   int clamp_ = 0;
   int keep_q8_ = 0;
