@@ -49,7 +49,7 @@ void LabelFusion::observe_mixed(ClassEvidence& evidence, const ClassObservation&
   }
   // Bayesian: p(c | z) from the mean of the points' distributions; each class
   // gains log p(c|z) - log p(pivot|z), the pivot being class 0 (observe()
-  // has added unanimous_ where every point had one label).
+  // has taken the voxels whose classified points all have one label).
   std::array<double, kClassCount> p{};
   const double n = classified;
   if (obs.has_scores) {
