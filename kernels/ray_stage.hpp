@@ -1,9 +1,9 @@
 // The rays a SIMD walk takes next (ray_marking_body.hpp), set up ahead of
 // the lanes in the lanes' form: a RayStage holds up to kCapacity rays'
-// DdaState fields (dda_walk.hpp), set up with the scalar dda_setup() or,
-// on AVX2 and AVX-512, with the same operations 8 or 16 rays at a time,
-// bit for bit the same values. Included by ray_marking_body.hpp only, in
-// each instruction set's own translation unit (hence the unnamed
+// DdaState fields (dda_walk.hpp), set up 16 rays at a time on AVX-512 and
+// 8 on AVX2 with dda_setup()'s operations in vector form, bit for bit the
+// values dda_setup() gives each ray. Included by ray_marking_body.hpp only,
+// in each instruction set's own translation unit (hence the unnamed
 // namespace: each compiles its own copy with its own flags).
 #pragma once
 
@@ -55,7 +55,15 @@ inline constexpr std::array<PackLanes8, 256> kPackLanes8 = pack_lanes_8();
 template <std::size_t N>
 class RayStage {
  public:
-  // Where each DdaState field's three axes start among the fields.
+  // Where each field's three axes start among the fields. Per axis, from
+  // the ray's DdaState s: kV the cell s.v; kBeforeLast the cell from which
+  // the axis's next crossing leads onto its last cell, s.last - s.step (the
+  // last cell itself for an axis that never moves), where the crossing
+  // after that, next, is +inf; kStep s.step; kNextFace the face after the
+  // one the ray leaves through, s.face + s.step (both small integers, exact
+  // in floats: the value the next crossing's parameter is computed from,
+  // kept so that a step adds one less); kInv s.inv; kT s.t; kNext s.next,
+  // or +inf where s.v is already the cell before the last.
   static constexpr int kV = 0, kBeforeLast = 3, kStep = 6, kNextFace = 9, kInv = 12, kT = 15, kNext = 18,
                        kFields = 21;
   static constexpr std::size_t kCapacity = 4 * N;
@@ -97,35 +105,19 @@ class RayStage {
       top_up_8();
     } else
 #endif
-      top_up_one_by_one();
+    {
+      static_assert(N != N, "RayStage: no vector set-up of N rays in this instruction set");
+    }
   }
 
-  // top_up()'s filling, one ray at a time with the scalar dda_setup().
-  void top_up_one_by_one() {
-    while (staged_ < kCapacity && taken_ < stretch_ * N) {
-      const std::size_t k = taken_++;
-      const std::size_t r = (k % N) * stretch_ + k / N;
-      if (r >= count_) continue;
-      const DdaState s = dda_setup(start_, ends_ + 3 * r);
-      if (!s.moves) continue;
-      for (int i = 0; i < 3; ++i) {
-        fields_[kV + i][staged_] = static_cast<float>(s.v[i]);
-        // The cell from which the axis's next crossing leads onto its last
-        // cell (the last cell itself for an axis that never moves): where the
-        // crossing after that, next, is +inf.
-        fields_[kBeforeLast + i][staged_] = static_cast<float>(s.last[i] - s.step[i]);
-        fields_[kStep + i][staged_] = static_cast<float>(s.step[i]);
-        // The face after the one the ray leaves through (face + step, both
-        // small integers, exact in floats): the value the next crossing's
-        // parameter is computed from, kept so that a step adds one less.
-        fields_[kNextFace + i][staged_] = s.face[i] + static_cast<float>(s.step[i]);
-        fields_[kInv + i][staged_] = s.inv[i];
-        fields_[kT + i][staged_] = s.t[i];
-        fields_[kNext + i][staged_] =
-            s.v[i] == s.last[i] - s.step[i] ? std::numeric_limits<float>::infinity() : s.next[i];
-      }
-      ++staged_;
-    }
+  // The next group of N rays to set up, q, stretch + q, 2 stretch + q, ...
+  // (one from each stretch), while there is room for a group and rays are
+  // left; false when not.
+  bool next_group(std::size_t& q) {
+    if (staged_ >= kCapacity || taken_ >= stretch_ * N) return false;
+    q = taken_ / N;
+    taken_ += N;
+    return true;
   }
 
 #if defined(__AVX512F__)
@@ -139,9 +131,7 @@ class RayStage {
     const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
     const __m512 one = _mm512_set1_ps(1.0f);
     const __m512 minus_below_one_gap = _mm512_set1_ps(-kDdaBelowOneGap);
-    while (staged_ < kCapacity && taken_ < stretch_ * N) {
-      const std::size_t q = taken_ / N;  // the rays q, stretch + q, 2 stretch + q, ...
-      taken_ += N;
+    for (std::size_t q = 0; next_group(q);) {
       const __m512i ray = _mm512_add_epi32(_mm512_mullo_epi32(lane, _mm512_set1_epi32(static_cast<std::int32_t>(stretch_))),
                                            _mm512_set1_epi32(static_cast<std::int32_t>(q)));
       const __mmask16 exists = _mm512_cmplt_epu32_mask(ray, _mm512_set1_epi32(static_cast<std::int32_t>(count_)));
@@ -201,9 +191,7 @@ class RayStage {
     const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
     const __m256 one = _mm256_set1_ps(1.0f);
     const __m256 minus_below_one_gap = _mm256_set1_ps(-kDdaBelowOneGap);
-    while (staged_ < kCapacity && taken_ < stretch_ * N) {
-      const std::size_t q = taken_ / N;  // the rays q, stretch + q, 2 stretch + q, ...
-      taken_ += N;
+    for (std::size_t q = 0; next_group(q);) {
       const __m256i ray = _mm256_add_epi32(_mm256_mullo_epi32(lane, _mm256_set1_epi32(static_cast<std::int32_t>(stretch_))),
                                            _mm256_set1_epi32(static_cast<std::int32_t>(q)));
       // Ray indices and counts are below 2^31: a signed compare will do.
