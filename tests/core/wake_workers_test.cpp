@@ -1,8 +1,9 @@
-// wake_workers() and usable_threads() under a thread limit: an enqueued task makes oneTBB lend
-// the arena a worker even where a global_control allows one thread ("mandatory
-// concurrency"), and that worker then joins the caller's parallel loops. So
-// with one thread allowed the wake must not enqueue: `sarmap run --threads 1`
-// ran its metric stage on two threads until it did not.
+// wake_workers() and usable_threads() under a thread limit: an enqueued task
+// makes oneTBB lend the arena a worker even where a global_control allows
+// one thread ("mandatory concurrency"), and that worker then joins the
+// caller's parallel loops. So with one thread allowed the wake must not
+// enqueue: `sarmap run --threads 1` ran its metric stage on two threads
+// until it did not.
 #include "engine/core/wake_workers.hpp"
 
 #include <gtest/gtest.h>
