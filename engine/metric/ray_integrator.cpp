@@ -6,7 +6,8 @@
 // and the hits listed by block (grid_hit_list.hpp).
 // ScanUpdate (scan_update.hpp), into the map: (3) a serial merge of the
 // masks, each block's hits found, blocks created in sorted key order;
-// (4) parallel updates, one block per task, hits overriding misses.
+// (4) parallel updates, each block by one thread, hits overriding misses,
+// begun on the blocks pass 3 has prepared while it prepares the rest.
 //
 // Passes 1-2 (trace) never read the map, so the next scan's can run while
 // this scan's passes 3-4 (apply) write it: the serial parts of each half

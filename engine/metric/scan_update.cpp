@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <span>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "engine/core/capacity_bytes.hpp"
 #include "engine/metric/grid_hit_list.hpp"
@@ -68,6 +68,21 @@ std::size_t update_block(SemanticBlock& block, const BlockMask& miss, ScanUpdate
     block.change_evidence(l, [&](ClassEvidence& evidence) { in.fusion.observe(evidence, in.observations[u]); });
   }
   return misses;
+}
+
+// Pass 3's last step for one block: the storage pass 4 writes into, its
+// log-odds expanded unless uniform and left as they are (misses only, on
+// voxels at the clamp minimum), and room for a row per hit voxel without
+// evidence yet.
+void prepare_block(SemanticBlocks& blocks, SemanticBlock& block, ScanUpdate::HitRange range,
+                   std::span<const std::uint32_t> hits, const std::vector<VoxelKey>& end_keys,
+                   const OccupancyModel& occ) {
+  std::size_t new_rows = 0;
+  for (std::uint32_t h = range.begin; h != range.end; ++h) {
+    new_rows += block.holds_evidence(local_index(end_keys[hits[h]])) ? 0 : 1;
+  }
+  const std::int16_t u = block.uniform_log_odds();
+  blocks.prepare(block, range.begin != range.end || occ.add(u, occ.miss()) != u, new_rows);
 }
 
 }  // namespace
@@ -159,27 +174,7 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
             [&](std::uint32_t a, std::uint32_t b) { return merged_keys[a] < merged_keys[b]; });
   auto& blocks = map.blocks();
   const std::size_t blocks_before = blocks.block_count();
-  block_of_index_.resize(merged_keys.size());
-  for (std::uint32_t b : order_) block_of_index_[b] = &blocks.find_or_create(unpack_block(merged_keys[b]));
-  stats.blocks_created += blocks.block_count() - blocks_before;
-  stats.hits += hits.size();
-  // Each block gets the storage pass 4 writes into: its log-odds expanded
-  // unless uniform and left as they are (misses only, on voxels at the
-  // clamp minimum), room for a row per hit voxel without evidence yet.
   const OccupancyModel& occ = map.occupancy();
-  for (std::size_t b = 0; b < merged_keys.size(); ++b) {
-    SemanticBlock& block = *block_of_index_[b];
-    const HitRange range = hit_range_[b];
-    std::size_t new_rows = 0;
-    for (std::uint32_t h = range.begin; h != range.end; ++h) {
-      new_rows += block.holds_evidence(local_index(end_keys[hits[h]])) ? 0 : 1;
-    }
-    const std::int16_t u = block.uniform_log_odds();
-    blocks.prepare(block, range.begin != range.end || occ.add(u, occ.miss()) != u, new_rows);
-  }
-
-  // Pass 4: parallel updates, one block per task (its misses, then its
-  // hits), so each voxel belongs to exactly one task.
   const BlockUpdateInputs inputs{occ,
                                  {occ.miss(), occ.min(), occ.max(), occ.threshold()},
                                  kernels::active_simd_level(),
@@ -187,17 +182,46 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
                                  end_keys,
                                  rays.ends().observations(),
                                  hits};
+  block_of_index_.resize(merged_keys.size());
   uniform_after_.assign(merged_keys.size(), 0);
   misses_of_block_.resize(merged_keys.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merged_keys.size(), 16),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                        SemanticBlock& block = *block_of_index_[b];
-                        misses_of_block_[b] =
-                            static_cast<std::uint32_t>(update_block(block, merged_miss_[b], hit_range_[b], inputs));
-                        uniform_after_[b] = SemanticBlocks::uniform_slab(block) ? 1 : 0;
-                      }
-                    });
+  // The blocks are found or created in sorted key order and prepared a
+  // batch at a time by this thread, serially (both change the map's
+  // storage), while pass 4 updates the batches already prepared: the other
+  // threads work instead of waiting for the whole of pass 3. A block's
+  // record and storage do not move while later blocks are created and
+  // prepared (BlockMap, SemanticBlocks), and each block's update reads and
+  // writes that block only, so the map is the same as with the passes one
+  // after the other.
+  const std::span<const std::uint32_t> order(order_);
+  tbb::task_group updating;
+  try {
+    for (std::size_t first = 0; first < order.size(); first += kUpdateBatch) {
+      const std::span<const std::uint32_t> batch =
+          order.subspan(first, std::min(kUpdateBatch, order.size() - first));
+      for (const std::uint32_t b : batch) {
+        SemanticBlock& block = blocks.find_or_create(unpack_block(merged_keys[b]));
+        block_of_index_[b] = &block;
+        prepare_block(blocks, block, hit_range_[b], hits, end_keys, occ);
+      }
+      // Pass 4 for the batch, in a task: each block (its misses, then its
+      // hits) by one thread, so each voxel is written once.
+      updating.run([&, batch] {
+        for (const std::uint32_t b : batch) {
+          SemanticBlock& block = *block_of_index_[b];
+          misses_of_block_[b] =
+              static_cast<std::uint32_t>(update_block(block, merged_miss_[b], hit_range_[b], inputs));
+          uniform_after_[b] = SemanticBlocks::uniform_slab(block) ? 1 : 0;
+        }
+      });
+    }
+  } catch (...) {
+    updating.wait();  // the tasks read this frame's locals
+    throw;
+  }
+  updating.wait();
+  stats.blocks_created += blocks.block_count() - blocks_before;
+  stats.hits += hits.size();
   for (const std::uint32_t misses : misses_of_block_) stats.misses += misses;
   // Blocks whose log-odds all became equal give their slab back, and rows
   // storage well beyond what is left.

@@ -4,9 +4,10 @@
 // block's hits found in the list ScanRays made by grid block (or listed here
 // when it made none), and the blocks found or created in sorted key order,
 // and each given the storage pass 4 writes into (SemanticBlocks::prepare).
-// Pass 4, parallel: one block per task, its misses (hits override them) and
-// then its hits, so every voxel is written once by one thread; then,
-// serially, blocks whose log-odds became uniform collapse (settle).
+// Pass 4, parallel: each block by one thread, its misses (hits override
+// them) and then its hits, so every voxel is written once; a batch of blocks
+// starts as soon as pass 3 has prepared it. Then, serially, blocks whose
+// log-odds became uniform collapse (settle).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +37,10 @@ class ScanUpdate {
   };
 
  private:
+  // Blocks prepared (pass 3) before their updates (pass 4) are handed out
+  // as a task: several tasks per thread even in a scan of a hundred blocks.
+  static constexpr std::size_t kUpdateBatch = 16;
+
   // Index of a block among the scan's merged blocks (created with no misses
   // and no hits).
   std::uint32_t merged_index(std::uint64_t packed_block);
