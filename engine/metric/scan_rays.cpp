@@ -1,6 +1,7 @@
 #include "engine/metric/scan_rays.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -8,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "engine/core/capacity_bytes.hpp"
@@ -142,6 +144,63 @@ RayCutter cutter_for(const RayEnd& origin, const IntegratorSettings& settings, d
 // about ten calls two threads got uneven shares (auto_partitioner made too
 // few ranges at 0.05 m).
 std::size_t walk_grain(std::size_t rays) { return std::max<std::size_t>(512, (rays + 15) / 16); }
+
+// The smallest piece of the walk's last rays (WalkClaims).
+constexpr std::size_t kLastPieceMin = 128;
+
+// The end voxels the merge has finished, claimed by the walking threads a
+// piece at a time. While the merge goes on, a piece is a whole grain
+// (walk_grain), but the very first is taken as soon as the merge has
+// finished any, so that the other threads start early; once the merge is
+// done the pieces shrink with what is left, down to kLastPieceMin, so that
+// the threads run out of rays at about the same time. Which thread walks
+// which rays does not change the map: the threads' miss masks are ORed.
+class WalkClaims {
+ public:
+  WalkClaims(std::size_t grain, std::size_t threads) : grain_(grain), threads_(std::max<std::size_t>(threads, 1)) {}
+
+  // By the merging thread: the end voxels below n are final (their keys
+  // written), and with merge_done() there are no more.
+  void finished(std::size_t n) { finished_.store(n, std::memory_order_release); }
+  void merge_done(std::size_t n) {
+    finished_.store(n, std::memory_order_release);
+    done_.store(true, std::memory_order_release);
+  }
+
+  // Claims [first, last); false when nothing is to be had now (all claimed,
+  // or less than a grain finished while the merge goes on).
+  bool claim(std::size_t& first, std::size_t& last) {
+    std::size_t at = next_.load(std::memory_order_relaxed);
+    while (true) {
+      // done_ before finished_: once done, the count read after it is the last.
+      const bool done = done_.load(std::memory_order_acquire);
+      const std::size_t limit = finished_.load(std::memory_order_acquire);
+      if (at >= limit) return false;
+      const std::size_t left = limit - at;
+      std::size_t piece = 0;
+      if (done && threads_ > 1) {
+        piece = std::min(left, std::clamp(left / (2 * threads_), kLastPieceMin, grain_));
+      } else if (done) {
+        piece = std::min(left, grain_);  // alone: nothing to balance, and every piece drains the lanes
+      } else if (at == 0 || left >= grain_) {
+        piece = std::min(left, grain_);
+      } else {
+        return false;
+      }
+      if (next_.compare_exchange_weak(at, at + piece, std::memory_order_relaxed)) {
+        first = at;
+        last = at + piece;
+        return true;
+      }
+    }
+  }
+
+ private:
+  const std::size_t grain_, threads_;
+  std::atomic<std::size_t> finished_{0};
+  std::atomic<bool> done_{false};
+  std::atomic<std::size_t> next_{0};
+};
 
 }  // namespace
 
@@ -296,10 +355,11 @@ void ScanRays::count_ends(IntegrationStats& stats) const {
 }
 
 // The merge of pass 1 and the walk of pass 2 at once: this thread merges the
-// chunks' groups in order and hands the end voxels it has finished, a
-// stretch of rays at a time, to tasks that cast and walk their rays on the
-// other threads. The merge is serial; overlapped so, it no longer leaves
-// the other threads idle between the two passes.
+// chunks' groups in order and starts tasks on the other threads that claim
+// the end voxels it has finished (WalkClaims) and cast and walk their rays.
+// The merge is serial; overlapped so, it no longer leaves the other threads
+// idle between the two passes. Once it is done, this thread lists the hits
+// and then walks what is left beside them.
 void ScanRays::merge_while_walking(const IntegratorSettings& settings, double resolution,
                                    std::span<const LocalEndGroups> stretches, IntegrationStats& stats) {
   const RayCutter cutter = cutter_for(origin_, settings, resolution);
@@ -325,17 +385,28 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
     t.visits += kernels::mark_ray_cells_dense(start, &rays_[first].x, cast, t.dense_grid(grid), level);
     t.rays += cast;
   };
+  WalkClaims claims(grain, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+  // Walks what it can claim, then leaves the rest to later tasks (or to
+  // this thread once the merge is done).
+  const auto walk_claimed = [&cast_and_walk, &claims](const VoxelKey* keys) {
+    for (std::size_t first = 0, last = 0; claims.claim(first, last);) cast_and_walk(keys, first, last);
+  };
   tbb::task_group walking;
-  std::size_t handed = 0;  // end voxels handed to a task so far
-  const auto hand_on = [&](std::size_t first, std::size_t last) {
+  std::size_t handed = 0;  // end voxels finished when a task was last started
+  const auto hand_on = [&] {
     const VoxelKey* keys = ends_.keys().data();  // stays put until the next merge
-    walking.run([&cast_and_walk, keys, first, last] { cast_and_walk(keys, first, last); });
+    walking.run([&walk_claimed, keys] { walk_claimed(keys); });
   };
   try {
     ends_.merge(stretches, settings.dense_dedupe_max_cells, [&](std::size_t final_groups) {
-      for (; final_groups - handed >= grain; handed += grain) hand_on(handed, handed + grain);
+      claims.finished(final_groups);
+      if (final_groups > 0 && (handed == 0 || final_groups - handed >= grain)) {
+        hand_on();
+        handed = final_groups;
+      }
     });
-    if (handed < ends_.size()) hand_on(handed, ends_.size());
+    claims.merge_done(ends_.size());
+    hand_on();
     // While the last rays are walked: which ends are hits, listed by grid
     // block, so that the update's serial part need not list them.
     end_is_hit_.resize(ends_.size());
@@ -345,6 +416,7 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
       end_is_hit_[u] = cutter.hits({k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;
     }
     grid_hits_.build(grid, keys, end_is_hit_);
+    walk_claimed(keys.data());
   } catch (...) {
     walking.wait();  // the tasks read this frame's locals
     throw;
