@@ -157,7 +157,8 @@ constexpr std::size_t kLastPieceMin = 128;
 // which rays does not change the map: the threads' miss masks are ORed.
 class WalkClaims {
  public:
-  WalkClaims(std::size_t grain, std::size_t threads) : grain_(grain), threads_(std::max<std::size_t>(threads, 1)) {}
+  WalkClaims(std::size_t grain, std::size_t threads)
+      : grain_(grain), threads_(std::max<std::size_t>(threads, 1)) {}
 
   // By the merging thread: the end voxels below n are final (their keys
   // written), and with merge_done() there are no more.

@@ -85,6 +85,37 @@ void prepare_block(SemanticBlocks& blocks, SemanticBlock& block, ScanUpdate::Hit
   blocks.prepare(block, range.begin != range.end || occ.add(u, occ.miss()) != u, new_rows);
 }
 
+// The blocks of the threads' dense grids over box that some ray crossed or
+// ended in, in grid order, each with its misses (the grids' words ORed, and
+// cleared once read, so the grids are all zero again) and its hits where
+// they are listed by grid block: on_block(packed key, misses, hits).
+template <class OnBlock>
+void merge_dense_grids(std::span<std::uint64_t* const> grids, const kernels::DenseMaskGrid& box,
+                       const GridHitList& grid_hits, OnBlock&& on_block) {
+  std::size_t g = 0;
+  for (std::int32_t k = 0; k < box.blocks[2]; ++k) {
+    for (std::int32_t j = 0; j < box.blocks[1]; ++j) {
+      for (std::int32_t i = 0; i < box.blocks[0]; ++i, ++g) {
+        BlockMask m{};
+        for (std::uint64_t* grid : grids) {
+          std::uint64_t* words = grid + g * m.size();
+          std::uint64_t any = 0;
+          for (std::size_t w = 0; w < m.size(); ++w) any |= words[w];
+          if (any == 0) continue;
+          for (std::size_t w = 0; w < m.size(); ++w) m[w] |= words[w];
+          std::fill(words, words + m.size(), 0);
+        }
+        std::uint64_t any = 0;
+        for (std::uint64_t w : m) any |= w;
+        ScanUpdate::HitRange hits;
+        if (grid_hits.listed()) hits = {grid_hits.begin(g), grid_hits.begin(g + 1)};
+        if (any == 0 && hits.begin == hits.end) continue;
+        on_block(pack(box.first_block[0] + i, box.first_block[1] + j, box.first_block[2] + k), m, hits);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::uint32_t ScanUpdate::merged_index(std::uint64_t packed_block) {
@@ -98,9 +129,19 @@ std::uint32_t ScanUpdate::merged_index(std::uint64_t packed_block) {
 
 std::size_t ScanUpdate::memory_bytes() const {
   return merged_.memory_bytes() + capacity_bytes(merged_miss_) + capacity_bytes(hit_range_) +
-         capacity_bytes(dense_grids_) + capacity_bytes(order_) + capacity_bytes(block_of_index_) +
-         capacity_bytes(uniform_after_) + capacity_bytes(misses_of_block_) + capacity_bytes(hit_list_) +
-         capacity_bytes(hit_block_) + capacity_bytes(hit_start_);
+         capacity_bytes(dense_grids_) + capacity_bytes(order_) + capacity_bytes(batches_) +
+         batches_.size() * sizeof(UpdateBatch) + capacity_bytes(hit_list_) + capacity_bytes(hit_block_) +
+         capacity_bytes(hit_start_);
+}
+
+ScanUpdate::UpdateBatch& ScanUpdate::open_batch() {
+  if (batches_in_use_ > 0 && batches_[batches_in_use_ - 1]->size < kUpdateBatch) {
+    return *batches_[batches_in_use_ - 1];
+  }
+  if (batches_in_use_ == batches_.size()) batches_.push_back(std::make_unique<UpdateBatch>());
+  UpdateBatch& batch = *batches_[batches_in_use_++];
+  batch.size = 0;
+  return batch;
 }
 
 void ScanUpdate::list_hits_by_merged_block(const std::vector<VoxelKey>& end_keys,
@@ -118,6 +159,7 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   merged_.clear();
   merged_miss_.clear();
   hit_range_.clear();
+  batches_in_use_ = 0;
   for (const ThreadMisses& t : rays.threads()) {
     const auto& keys = t.blocks.keys();
     for (std::size_t b = 0; b < keys.size(); ++b) {
@@ -126,39 +168,24 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
     }
   }
   const GridHitList& grid_hits = rays.hits_by_grid_block();
-  if (const auto& box = rays.dense_box()) {
-    dense_grids_.clear();
+  const auto& box = rays.dense_box();
+  dense_grids_.clear();
+  if (box) {
     for (ThreadMisses& t : rays.threads()) {
       if (t.dense_in_use) dense_grids_.push_back(t.dense.data());
     }
-    // The box's blocks in grid order; only those some ray crossed or ended
-    // in. Each block's words are cleared once read, so the grids are all
-    // zero again.
-    std::size_t g = 0;
-    for (std::int32_t k = 0; k < box->blocks[2]; ++k) {
-      for (std::int32_t j = 0; j < box->blocks[1]; ++j) {
-        for (std::int32_t i = 0; i < box->blocks[0]; ++i, ++g) {
-          BlockMask m{};
-          for (std::uint64_t* grid : dense_grids_) {
-            std::uint64_t* words = grid + g * m.size();
-            std::uint64_t any = 0;
-            for (std::size_t w = 0; w < m.size(); ++w) any |= words[w];
-            if (any == 0) continue;
-            for (std::size_t w = 0; w < m.size(); ++w) m[w] |= words[w];
-            std::fill(words, words + m.size(), 0);
-          }
-          std::uint64_t any = 0;
-          for (std::uint64_t w : m) any |= w;
-          const HitRange hits =
-              grid_hits.listed() ? HitRange{grid_hits.begin(g), grid_hits.begin(g + 1)} : HitRange{};
-          if (any == 0 && hits.begin == hits.end) continue;
-          const std::uint32_t b =
-              merged_index(pack(box->first_block[0] + i, box->first_block[1] + j, box->first_block[2] + k));
-          for (std::size_t w = 0; w < m.size(); ++w) merged_miss_[b][w] |= m[w];
-          hit_range_[b] = hits;
-        }
-      }
-    }
+  }
+  // The grids' blocks come in sorted key order (pack() orders by z, then y,
+  // then x, as the grid runs): when they are all the scan's blocks and their
+  // hits are listed, the batches are handed out as the grids' merge goes.
+  const bool grid_in_key_order = box && grid_hits.listed() && merged_.size() == 0;
+  if (box && !grid_in_key_order) {
+    const auto merge_block = [&](std::uint64_t key, const BlockMask& m, HitRange hits) {
+      const std::uint32_t b = merged_index(key);
+      for (std::size_t w = 0; w < m.size(); ++w) merged_miss_[b][w] |= m[w];
+      hit_range_[b] = hits;
+    };
+    merge_dense_grids(dense_grids_, *box, grid_hits, merge_block);
     rays.dense_grids_cleared();
   }
   const std::vector<VoxelKey>& end_keys = rays.ends().keys();
@@ -167,11 +194,6 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
     list_hits_by_merged_block(end_keys, rays.end_is_hit());
     hits = hit_list_;
   }
-  const auto& merged_keys = merged_.keys();
-  order_.resize(merged_keys.size());
-  for (std::uint32_t b = 0; b < order_.size(); ++b) order_[b] = b;
-  std::sort(order_.begin(), order_.end(),
-            [&](std::uint32_t a, std::uint32_t b) { return merged_keys[a] < merged_keys[b]; });
   auto& blocks = map.blocks();
   const std::size_t blocks_before = blocks.block_count();
   const OccupancyModel& occ = map.occupancy();
@@ -182,9 +204,6 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
                                  end_keys,
                                  rays.ends().observations(),
                                  hits};
-  block_of_index_.resize(merged_keys.size());
-  uniform_after_.assign(merged_keys.size(), 0);
-  misses_of_block_.resize(merged_keys.size());
   // The blocks are found or created in sorted key order and prepared a
   // batch at a time by this thread, serially (both change the map's
   // storage), while pass 4 updates the batches already prepared: the other
@@ -193,27 +212,45 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   // prepared (BlockMap, SemanticBlocks), and each block's update reads and
   // writes that block only, so the map is the same as with the passes one
   // after the other.
-  const std::span<const std::uint32_t> order(order_);
   tbb::task_group updating;
-  try {
-    for (std::size_t first = 0; first < order.size(); first += kUpdateBatch) {
-      const std::span<const std::uint32_t> batch =
-          order.subspan(first, std::min(kUpdateBatch, order.size() - first));
-      for (const std::uint32_t b : batch) {
-        SemanticBlock& block = blocks.find_or_create(unpack_block(merged_keys[b]));
-        block_of_index_[b] = &block;
-        prepare_block(blocks, block, hit_range_[b], hits, end_keys, occ);
+  const auto hand_out = [&](UpdateBatch& batch) {
+    for (std::size_t n = 0; n < batch.size; ++n) {
+      SemanticBlock& block = blocks.find_or_create(unpack_block(batch.key[n]));
+      batch.block[n] = &block;
+      prepare_block(blocks, block, batch.hits[n], hits, end_keys, occ);
+    }
+    // Pass 4 for the batch, in a task: each block (its misses, then its
+    // hits) by one thread, so each voxel is written once.
+    updating.run([&inputs, &batch] {
+      for (std::size_t n = 0; n < batch.size; ++n) {
+        SemanticBlock& block = *batch.block[n];
+        const std::size_t misses = update_block(block, batch.miss[n], batch.hits[n], inputs);
+        batch.misses[n] = static_cast<std::uint32_t>(misses);
+        batch.uniform_after[n] = SemanticBlocks::uniform_slab(block) ? 1 : 0;
       }
-      // Pass 4 for the batch, in a task: each block (its misses, then its
-      // hits) by one thread, so each voxel is written once.
-      updating.run([&, batch] {
-        for (const std::uint32_t b : batch) {
-          SemanticBlock& block = *block_of_index_[b];
-          misses_of_block_[b] =
-              static_cast<std::uint32_t>(update_block(block, merged_miss_[b], hit_range_[b], inputs));
-          uniform_after_[b] = SemanticBlocks::uniform_slab(block) ? 1 : 0;
-        }
-      });
+    });
+  };
+  const auto add_block = [&](std::uint64_t key, const BlockMask& misses, HitRange block_hits) {
+    UpdateBatch& batch = open_batch();
+    batch.key[batch.size] = key;
+    batch.miss[batch.size] = misses;
+    batch.hits[batch.size] = block_hits;
+    if (++batch.size == kUpdateBatch) hand_out(batch);
+  };
+  try {
+    if (grid_in_key_order) {
+      merge_dense_grids(dense_grids_, *box, grid_hits, add_block);
+      rays.dense_grids_cleared();
+    } else {
+      const auto& merged_keys = merged_.keys();
+      order_.resize(merged_keys.size());
+      for (std::uint32_t b = 0; b < order_.size(); ++b) order_[b] = b;
+      std::sort(order_.begin(), order_.end(),
+                [&](std::uint32_t a, std::uint32_t b) { return merged_keys[a] < merged_keys[b]; });
+      for (const std::uint32_t b : order_) add_block(merged_keys[b], merged_miss_[b], hit_range_[b]);
+    }
+    if (batches_in_use_ > 0 && batches_[batches_in_use_ - 1]->size < kUpdateBatch) {
+      hand_out(*batches_[batches_in_use_ - 1]);
     }
   } catch (...) {
     updating.wait();  // the tasks read this frame's locals
@@ -222,11 +259,15 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
   updating.wait();
   stats.blocks_created += blocks.block_count() - blocks_before;
   stats.hits += hits.size();
-  for (const std::uint32_t misses : misses_of_block_) stats.misses += misses;
   // Blocks whose log-odds all became equal give their slab back, and rows
   // storage well beyond what is left.
-  for (std::size_t b = 0; b < merged_keys.size(); ++b)
-    blocks.settle(*block_of_index_[b], uniform_after_[b] != 0);
+  for (std::size_t i = 0; i < batches_in_use_; ++i) {
+    const UpdateBatch& batch = *batches_[i];
+    for (std::size_t n = 0; n < batch.size; ++n) {
+      stats.misses += batch.misses[n];
+      blocks.settle(*batch.block[n], batch.uniform_after[n] != 0);
+    }
+  }
 }
 
 }  // namespace sarmap::metric
