@@ -90,4 +90,22 @@ std::size_t mark_ray_cells_dense(const double start[3], const double* ends, std:
   return mark_ray_cells_dense_reference(start, ends, count, grid);
 }
 
+std::size_t mark_ray_pieces_dense(const double start[3], const RayPieces& pieces, const DenseMaskGrid& grid,
+                                  SimdLevel level) {
+  if (!simd_level_supported(level)) {
+    throw std::invalid_argument("mark_ray_pieces_dense: instruction set not supported");
+  }
+  switch (level) {
+    case SimdLevel::Avx512: return detail::mark_ray_pieces_dense_avx512(start, pieces, grid);
+    case SimdLevel::Avx2: return detail::mark_ray_pieces_dense_avx2(start, pieces, grid);
+    case SimdLevel::Sse42: break;  // as in mark_ray_cells
+  }
+  std::size_t visits = 0;
+  const double* ends = nullptr;
+  for (std::size_t count = 0; pieces.next(pieces.context, &ends, &count);) {
+    visits += mark_ray_cells_dense_reference(start, ends, count, grid);
+  }
+  return visits;
+}
+
 }  // namespace sarmap::kernels

@@ -66,6 +66,23 @@ std::size_t mark_ray_cells_dense(const double start[3], const double* ends, std:
 std::size_t mark_ray_cells_dense_reference(const double start[3], const double* ends, std::size_t count,
                                            const DenseMaskGrid& grid);
 
+// Rays handed to a walk a piece at a time: next(context, &ends, &count)
+// gives the next piece (ends[3 r ..], r < count; it may be empty) and
+// returns false when there is none, which ends the walk once the rays taken
+// so far are walked. The rays of a piece stay put until the walk returns.
+struct RayPieces {
+  bool (*next)(void* context, const double** ends, std::size_t* count);
+  void* context;
+};
+
+// mark_ray_cells_dense() over every piece of pieces, as if their rays were
+// one array: the vector walks ask for the next piece while the lanes are
+// still walking the last one's rays, so lanes do not drain (sit idle while
+// the longest rays of a call finish) between pieces, only at the end. For
+// rays that become known a piece at a time (ScanRays's walk beside the merge).
+std::size_t mark_ray_pieces_dense(const double start[3], const RayPieces& pieces, const DenseMaskGrid& grid,
+                                  SimdLevel level);
+
 namespace detail {
 std::size_t mark_ray_cells_avx2(const double start[3], const double* ends, std::size_t count,
                                 const BlockMaskSink& sink);
@@ -75,6 +92,10 @@ std::size_t mark_ray_cells_dense_avx2(const double start[3], const double* ends,
                                       const DenseMaskGrid& grid);
 std::size_t mark_ray_cells_dense_avx512(const double start[3], const double* ends, std::size_t count,
                                         const DenseMaskGrid& grid);
+std::size_t mark_ray_pieces_dense_avx2(const double start[3], const RayPieces& pieces,
+                                       const DenseMaskGrid& grid);
+std::size_t mark_ray_pieces_dense_avx512(const double start[3], const RayPieces& pieces,
+                                         const DenseMaskGrid& grid);
 }  // namespace detail
 
 }  // namespace sarmap::kernels

@@ -13,4 +13,9 @@ std::size_t mark_ray_cells_dense_avx2(const double start[3], const double* ends,
   return mark_ray_cells_dense_impl<xsimd::avx2>(start, ends, count, grid);
 }
 
+std::size_t mark_ray_pieces_dense_avx2(const double start[3], const RayPieces& pieces,
+                                       const DenseMaskGrid& grid) {
+  return mark_ray_pieces_dense_impl<xsimd::avx2>(start, pieces, grid);
+}
+
 }  // namespace sarmap::kernels::detail

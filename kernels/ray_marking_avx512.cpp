@@ -13,4 +13,9 @@ std::size_t mark_ray_cells_dense_avx512(const double start[3], const double* end
   return mark_ray_cells_dense_impl<xsimd::avx512bw>(start, ends, count, grid);
 }
 
+std::size_t mark_ray_pieces_dense_avx512(const double start[3], const RayPieces& pieces,
+                                         const DenseMaskGrid& grid) {
+  return mark_ray_pieces_dense_impl<xsimd::avx512bw>(start, pieces, grid);
+}
+
 }  // namespace sarmap::kernels::detail

@@ -56,12 +56,12 @@ inline unsigned lane_bits(const xsimd::batch_bool<float, Arch>& b) {
 // mispredicted branch every few steps (the A/B is in docs/perf-history.md).
 inline constexpr int kStepsPerRefill = 8;
 
-// Walks the rays to ends[3 r ..] from start, N at a time, calling
+// Walks the rays of a RayStage(stage_args...) from its start, N at a time, calling
 // marker.record(cells, active, buffer) with each step's cells (3 vectors,
 // one per axis, lanes not in active hold nothing to mark) and then
 // marker.mark(other buffer) to mark the step before. Returns the cells visited.
-template <class Arch, class Marker>
-std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_t count, Marker& marker) {
+template <class Arch, class Marker, class... StageArgs>
+std::size_t walk_ray_lanes(Marker& marker, const StageArgs&... stage_args) {
   using D = xsimd::batch<float, Arch>;
   constexpr std::size_t N = D::size;
   constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -81,7 +81,9 @@ std::size_t walk_ray_lanes(const double start[3], const double* ends, std::size_
   D* const invv = state + Stage::kInv;
   D* const tv = state + Stage::kT;
   D* const nextv = state + Stage::kNext;
-  Stage stage(start, ends, count);
+  // A local, not a parameter: the compiler then knows the marker's stores
+  // do not change it.
+  Stage stage(stage_args...);
   const DdaState& at_start = stage.at_start();
   const D startv[3] = {D(at_start.start[0]), D(at_start.start[1]), D(at_start.start[2])};
   const D inf(kInf), tie(kDdaTieParameter);
@@ -290,14 +292,21 @@ template <class Arch>
 std::size_t mark_ray_cells_impl(const double start[3], const double* ends, std::size_t count,
                                 const BlockMaskSink& sink) {
   BlockSinkMarker<Arch> marker(sink);
-  return walk_ray_lanes<Arch>(start, ends, count, marker);
+  return walk_ray_lanes<Arch>(marker, start, ends, count);
 }
 
 template <class Arch>
 std::size_t mark_ray_cells_dense_impl(const double start[3], const double* ends, std::size_t count,
                                       const DenseMaskGrid& grid) {
   DenseGridMarker<Arch> marker(grid);
-  return walk_ray_lanes<Arch>(start, ends, count, marker);
+  return walk_ray_lanes<Arch>(marker, start, ends, count);
+}
+
+template <class Arch>
+std::size_t mark_ray_pieces_dense_impl(const double start[3], const RayPieces& pieces,
+                                       const DenseMaskGrid& grid) {
+  DenseGridMarker<Arch> marker(grid);
+  return walk_ray_lanes<Arch>(marker, start, pieces);
 }
 
 }  // namespace

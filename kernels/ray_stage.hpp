@@ -19,6 +19,7 @@
 #include <limits>
 
 #include "kernels/dda_walk.hpp"
+#include "kernels/ray_marking.hpp"
 
 namespace sarmap::kernels {
 namespace {
@@ -76,6 +77,16 @@ class RayStage {
 
   RayStage(const double start[3], const double* ends, std::size_t count)
       : start_(start), ends_(ends), count_(count), stretch_((count + N - 1) / N), at_start_(dda_setup(start, start)) {}
+  // The rays of pieces, one piece after the other (each interleaved as
+  // above), the next asked for as soon as the last is staged: the lanes
+  // walk on across pieces instead of draining at the end of each.
+  RayStage(const double start[3], const RayPieces& pieces)
+      : start_(start),
+        ends_(nullptr),
+        count_(0),
+        stretch_(0),
+        pieces_(&pieces),
+        at_start_(dda_setup(start, start)) {}
 
   // Rays ready from field(f)[0] on; tops up first if fewer than wanted.
   std::size_t ready(std::size_t wanted) {
@@ -95,18 +106,26 @@ class RayStage {
     for (auto& f : fields_) std::copy(f + cursor_, f + staged_, f);
     staged_ -= cursor_;
     cursor_ = 0;
+    while (true) {
 #if defined(__AVX512F__)
-    if constexpr (N == 16) {
-      top_up_16();
-    } else
+      if constexpr (N == 16) {
+        top_up_16();
+      } else
 #endif
 #if defined(__AVX2__)
-    if constexpr (N == 8) {
-      top_up_8();
-    } else
+      if constexpr (N == 8) {
+        top_up_8();
+      } else
 #endif
-    {
-      static_assert(N != N, "RayStage: no vector set-up of N rays in this instruction set");
+      {
+        static_assert(N != N, "RayStage: no vector set-up of N rays in this instruction set");
+      }
+      // Full, or this piece all staged: then the next piece, if any (here,
+      // not in the set-up's loop, which the call would slow down).
+      if (staged_ >= kCapacity || pieces_ == nullptr) return;
+      if (!pieces_->next(pieces_->context, &ends_, &count_)) return;
+      stretch_ = (count_ + N - 1) / N;
+      taken_ = 0;
     }
   }
 
@@ -248,8 +267,9 @@ class RayStage {
 #endif
 
   const double* start_;
-  const double* ends_;
+  const double* ends_;  // the rays (of the piece) being staged
   std::size_t count_, stretch_, taken_ = 0, staged_ = 0, cursor_ = 0;
+  const RayPieces* pieces_ = nullptr;  // where more rays come from, if anywhere
   DdaState at_start_;  // at_start()
   // kCapacity rays and room for one more group of N set up at once.
   alignas(64) float fields_[kFields][kCapacity + N];

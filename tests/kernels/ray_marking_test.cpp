@@ -3,11 +3,13 @@
 // cells' grid, rays along axes and through cell edges and corners, rays that
 // stay in their start cell, negative coordinates, and batches whose lanes
 // finish at very different times; both into block masks found through a
-// sink and into a dense grid of blocks.
+// sink and into a dense grid of blocks, and into a dense grid from rays
+// handed out in pieces.
 #include "kernels/ray_marking.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -103,6 +105,39 @@ struct DenseGrid {
   }
 };
 
+// The rays of ends handed out in pieces of the given sizes (0 for an empty
+// piece), one after the other, through RayPieces.
+struct PieceList {
+  const std::vector<double>& ends;
+  std::vector<std::size_t> sizes;
+  std::size_t next_piece = 0, next_ray = 0;
+
+  static bool next(void* self, const double** out, std::size_t* count) {
+    auto& p = *static_cast<PieceList*>(self);
+    if (p.next_piece == p.sizes.size()) return false;
+    *count = p.sizes[p.next_piece++];
+    *out = p.ends.data() + 3 * p.next_ray;
+    p.next_ray += *count;
+    return true;
+  }
+  RayPieces pieces() { return {&PieceList::next, this}; }
+};
+
+// Piece sizes over n rays: empty pieces, single rays and runs of up to 70
+// (shorter and longer than a vector walk's stage of rays), mixed at random.
+std::vector<std::size_t> random_piece_sizes(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::size_t> sizes{0};
+  for (std::size_t left = n; left > 0;) {
+    const std::size_t pick = rng() % 4;
+    const std::size_t size = std::min(left, pick == 0 ? 0 : pick == 1 ? 1 : 1 + rng() % 70);
+    sizes.push_back(size);
+    left -= size;
+  }
+  sizes.push_back(0);
+  return sizes;
+}
+
 void expect_same_cells(const std::array<double, 3>& start, const std::vector<double>& ends, const char* what) {
   std::size_t expected_visits = 0;
   const std::set<Cell> expected = walked_cells(start.data(), ends, &expected_visits);
@@ -130,6 +165,21 @@ void expect_same_cells(const std::array<double, 3>& start, const std::vector<dou
     EXPECT_EQ(mark_ray_cells_dense(start.data(), ends.data(), ends.size() / 3, dense.grid, level), expected_visits)
         << what << " dense at " << to_string(level);
     EXPECT_EQ(dense.cells(), expected) << what << " dense at " << to_string(level);
+  }
+  // The same rays in pieces, at every level: in random pieces, all in one,
+  // and one ray per piece.
+  const std::size_t n = ends.size() / 3;
+  for (SimdLevel level : test::supported_levels()) {
+    for (const std::vector<std::size_t>& sizes :
+         {random_piece_sizes(n, 17), std::vector<std::size_t>{n}, std::vector<std::size_t>(n, 1)}) {
+      DenseGrid dense(start, ends);
+      PieceList list{ends, sizes};
+      EXPECT_EQ(mark_ray_pieces_dense(start.data(), list.pieces(), dense.grid, level), expected_visits)
+          << what << " in " << sizes.size() << " pieces at " << to_string(level);
+      EXPECT_EQ(list.next_piece, sizes.size()) << what << ": every piece asked for";
+      EXPECT_EQ(dense.cells(), expected)
+          << what << " in " << sizes.size() << " pieces at " << to_string(level);
+    }
   }
 }
 
