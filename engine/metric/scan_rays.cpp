@@ -138,11 +138,13 @@ RayCutter cutter_for(const RayEnd& origin, const IntegratorSettings& settings, d
           settings.clear_beyond_max_range};
 }
 
-// Rays per call of the dense walk: at least 512 and about 16 calls per
-// scan. The SIMD lanes drain at the end of every call, so short calls leave
-// lanes idle (64 rays measured slower at 1 thread), but with fewer than
-// about ten calls two threads got uneven shares (auto_partitioner made too
-// few ranges at 0.05 m).
+// Rays per call of the dense walk after the whole of pass 1 (walk()), and
+// per claim while the merge goes on (WalkClaims): at least 512 and about 16
+// per scan. The SIMD lanes drain at the end of every call, so short calls
+// leave lanes idle (64 rays measured slower at 1 thread), but with fewer
+// than about ten calls two threads got uneven shares (auto_partitioner made
+// too few ranges at 0.05 m). Claims go to one walk per thread as its pieces
+// (ClaimedRays), which drains only at its end.
 std::size_t walk_grain(std::size_t rays) { return std::max<std::size_t>(512, (rays + 15) / 16); }
 
 // The smallest piece of the walk's last rays (WalkClaims).
@@ -182,7 +184,7 @@ class WalkClaims {
       if (done && threads_ > 1) {
         piece = std::min(left, std::clamp(left / (2 * threads_), kLastPieceMin, grain_));
       } else if (done) {
-        piece = std::min(left, grain_);  // alone: nothing to balance, and every piece drains the lanes
+        piece = std::min(left, grain_);  // alone: nothing to balance
       } else if (at == 0 || left >= grain_) {
         piece = std::min(left, grain_);
       } else {
@@ -201,6 +203,55 @@ class WalkClaims {
   std::atomic<std::size_t> finished_{0};
   std::atomic<bool> done_{false};
   std::atomic<std::size_t> next_{0};
+};
+
+// The rays of the end voxels one thread claims (WalkClaims), handed to the
+// dense walk as its pieces (kernels::RayPieces) and cast as it asks for
+// them: one walk per thread goes on from claim to claim, its SIMD lanes
+// draining only when nothing is left to claim, not at the end of each
+// claim. A claim [first, last)'s rays are packed from rays[first] on
+// (claims never overlap, so no thread sees another's).
+class ClaimedRays {
+ public:
+  ClaimedRays(WalkClaims& claims, const VoxelKey* keys, const RayCutter& cutter, RayEnd* rays)
+      : claims_(claims), keys_(keys), cutter_(cutter), rays_(rays) {}
+
+  // Claims the first piece; false when nothing is to be had now.
+  bool claim_first() { return claim(); }
+  kernels::RayPieces pieces() { return {&ClaimedRays::next, this}; }
+  // Rays cast so far.
+  std::size_t cast() const { return cast_; }
+
+ private:
+  static bool next(void* self, const double** ends, std::size_t* count) {
+    auto& c = *static_cast<ClaimedRays*>(self);
+    if (!c.claimed_ && !c.claim()) return false;
+    c.claimed_ = false;
+    *ends = &c.rays_[c.first_].x;
+    *count = c.piece_;
+    return true;
+  }
+  bool claim() {
+    std::size_t first = 0, last = 0;
+    if (!claims_.claim(first, last)) return false;
+    std::size_t n = 0;
+    for (std::size_t u = first; u < last; ++u) {
+      const VoxelKey& k = keys_[u];
+      n += cutter_.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[first + n]) == RayKind::None ? 0 : 1;
+    }
+    first_ = first;
+    piece_ = n;
+    cast_ += n;
+    claimed_ = true;
+    return true;
+  }
+
+  WalkClaims& claims_;
+  const VoxelKey* keys_;
+  const RayCutter& cutter_;
+  RayEnd* rays_;
+  std::size_t first_ = 0, piece_ = 0, cast_ = 0;
+  bool claimed_ = false;  // a piece claimed and not yet handed to the walk
 };
 
 }  // namespace
@@ -357,7 +408,8 @@ void ScanRays::count_ends(IntegrationStats& stats) const {
 
 // The merge of pass 1 and the walk of pass 2 at once: this thread merges the
 // chunks' groups in order and starts tasks on the other threads that claim
-// the end voxels it has finished (WalkClaims) and cast and walk their rays.
+// the end voxels it has finished (WalkClaims) and cast and walk their rays,
+// claim after claim in one walk (ClaimedRays).
 // The merge is serial; overlapped so, it no longer leaves the other threads
 // idle between the two passes. Once it is done, this thread lists the hits
 // and then walks what is left beside them.
@@ -373,24 +425,15 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
   dense_dirty_ = true;
   stats.dense_walks += 1;
   const std::size_t grain = walk_grain(most);
-  // Rays [first, last) cast and walked; those with a ray are packed from
-  // rays_[first] on (ranges never overlap, so no task sees another's).
-  const auto cast_and_walk = [&](const VoxelKey* keys, std::size_t first, std::size_t last) {
-    std::size_t cast = 0;
-    for (std::size_t u = first; u < last; ++u) {
-      const VoxelKey& k = keys[u];
-      const RayKind kind = cutter.ray_to({k.x + 0.5, k.y + 0.5, k.z + 0.5}, rays_[first + cast]);
-      cast += kind == RayKind::None ? 0 : 1;
-    }
-    ThreadMisses& t = threads_.local();
-    t.visits += kernels::mark_ray_cells_dense(start, &rays_[first].x, cast, t.dense_grid(grid), level);
-    t.rays += cast;
-  };
   WalkClaims claims(grain, static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
   // Walks what it can claim, then leaves the rest to later tasks (or to
   // this thread once the merge is done).
-  const auto walk_claimed = [&cast_and_walk, &claims](const VoxelKey* keys) {
-    for (std::size_t first = 0, last = 0; claims.claim(first, last);) cast_and_walk(keys, first, last);
+  const auto walk_claimed = [&](const VoxelKey* keys) {
+    ClaimedRays claimed(claims, keys, cutter, rays_.data());
+    if (!claimed.claim_first()) return;
+    ThreadMisses& t = threads_.local();
+    t.visits += kernels::mark_ray_pieces_dense(start, claimed.pieces(), t.dense_grid(grid), level);
+    t.rays += claimed.cast();
   };
   tbb::task_group walking;
   std::size_t handed = 0;  // end voxels finished when a task was last started
