@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/core/capacity_bytes.hpp"
+#include "engine/core/huge_page_allocator.hpp"
 
 namespace sarmap {
 
@@ -149,7 +150,8 @@ class FlatKeyIndex {
     }
   }
 
-  std::vector<Slot> slots_;
+  // A large table grows without a page fault per 4 KiB (huge_page_allocator.hpp).
+  HugePageVector<Slot> slots_;
   std::size_t mask_ = 0;
   std::vector<std::uint64_t> keys_;
 };

@@ -64,8 +64,8 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
   }
   // Room for every group up front: keys already final never move while a
   // reader given them by progress goes on.
-  keys_.reserve(most);
-  observations_.reserve(most);
+  reserve_whole_huge_pages(keys_, most);
+  reserve_whole_huge_pages(observations_, most);
   // Folds every stretch's groups, in order, into the global group whose
   // index global_index(key) gives (the next index opens a new group).
   const auto fold_all = [&](auto&& global_index) {
@@ -88,7 +88,10 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
   const std::size_t cells = box.cells();
   used_dense_ = cells != 0 && cells <= max_dense_cells;
   if (used_dense_) {
-    if (dense_.size() < cells) dense_.resize(cells, 0);
+    if (dense_.size() < cells) {
+      reserve_whole_huge_pages(dense_, cells);
+      dense_.resize(cells, 0);
+    }
     const std::size_t ex = static_cast<std::size_t>(box.hi.x - box.lo.x + 1);
     const std::size_t exy = ex * static_cast<std::size_t>(box.hi.y - box.lo.y + 1);
     const auto cell_of = [&](const VoxelKey& k) {

@@ -22,6 +22,7 @@
 
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/flat_key_index.hpp"
+#include "engine/core/huge_page_allocator.hpp"
 #include "engine/metric/label_fusion.hpp"
 #include "engine/metric/voxel_key.hpp"
 
@@ -148,20 +149,22 @@ class EndVoxelGroups {
              const std::function<void(std::size_t)>& progress = {});
 
   std::size_t size() const { return keys_.size(); }
-  const std::vector<VoxelKey>& keys() const { return keys_; }
-  const std::vector<ClassObservation>& observations() const { return observations_; }
+  const HugePageVector<VoxelKey>& keys() const { return keys_; }
+  const HugePageVector<ClassObservation>& observations() const { return observations_; }
   // Whether the last merge() used the dense table (for tests).
   bool used_dense_table() const { return used_dense_; }
   // Bytes held (groups, hash table and dense table, by capacity).
   std::size_t memory_bytes() const;
 
  private:
-  std::vector<VoxelKey> keys_;
-  std::vector<ClassObservation> observations_;
+  // Scratch in whole huge pages (reserve_whole_huge_pages): a fresh
+  // process's first scans would otherwise fault them in a page at a time.
+  HugePageVector<VoxelKey> keys_;
+  HugePageVector<ClassObservation> observations_;
   FlatKeyIndex hashed_{65536};
   // Dense table: group index + 1 per cell of the box, 0 for none; all zero
   // between calls (merge() resets the cells it used).
-  std::vector<std::uint32_t> dense_;
+  HugePageVector<std::uint32_t> dense_;
   bool used_dense_ = false;
 };
 

@@ -42,7 +42,10 @@ std::size_t ThreadMisses::memory_bytes() const {
 kernels::DenseMaskGrid ThreadMisses::dense_grid(const kernels::DenseMaskGrid& box) {
   if (!dense_in_use) {
     const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(box);
-    if (dense.size() < words) dense.resize(words, 0);  // all zero already
+    if (dense.size() < words) {
+      reserve_whole_huge_pages(dense, words);
+      dense.resize(words, 0);
+    }  // all zero already
     dense_in_use = true;
   }
   kernels::DenseMaskGrid grid = box;
@@ -76,7 +79,7 @@ constexpr std::size_t kDenseGridMaxBlocks = (std::size_t{1} << 31) / kernels::kM
 
 // The scan's dense mask grid (without words), or nothing when it has more
 // than max_blocks blocks.
-std::optional<kernels::DenseMaskGrid> scan_block_box(const double start[3], const std::vector<RayEnd>& ends,
+std::optional<kernels::DenseMaskGrid> scan_block_box(const double start[3], std::span<const RayEnd> ends,
                                                      std::size_t max_blocks) {
   max_blocks = std::min(max_blocks, kDenseGridMaxBlocks - 1);
   if (max_blocks == 0 || ends.empty()) return std::nullopt;
@@ -293,11 +296,12 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
   }
   ends_.merge(stretches, settings.dense_dedupe_max_cells);
   count_ends(stats);
+  reserve_whole_huge_pages(end_is_hit_, ends_.size());
   end_is_hit_.assign(ends_.size(), 1);  // every one a hit until its ray says
   if (settings.discretize) {
     // One ray per end voxel, to its centre, computed in parallel, then the
     // voxels without a ray (beyond range, not clearing) squeezed out.
-    const std::vector<VoxelKey>& end_keys = ends_.keys();
+    const auto& end_keys = ends_.keys();
     rays_.resize(end_keys.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -421,6 +425,7 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
   const kernels::DenseMaskGrid grid = *dense_box_;
   std::size_t most = 0;  // end voxels at most: the chunks' groups
   for (const LocalEndGroups& stretch : stretches) most += stretch.keys().size();
+  reserve_whole_huge_pages(rays_, most);
   rays_.resize(most);
   dense_dirty_ = true;
   stats.dense_walks += 1;
@@ -453,8 +458,9 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
     hand_on();
     // While the last rays are walked: which ends are hits, listed by grid
     // block, so that the update's serial part need not list them.
+    reserve_whole_huge_pages(end_is_hit_, ends_.size());
     end_is_hit_.resize(ends_.size());
-    const std::vector<VoxelKey>& keys = ends_.keys();
+    const auto& keys = ends_.keys();
     for (std::size_t u = 0; u < keys.size(); ++u) {
       const VoxelKey& k = keys[u];
       end_is_hit_[u] = cutter.hits({k.x + 0.5, k.y + 0.5, k.z + 0.5}) ? 1 : 0;

@@ -22,6 +22,7 @@
 #include "engine/core/point_buffer.hpp"
 #include "engine/metric/end_voxel_groups.hpp"
 #include "engine/core/flat_key_index.hpp"
+#include "engine/core/huge_page_allocator.hpp"
 #include "engine/metric/grid_hit_list.hpp"
 #include "engine/metric/integration_settings.hpp"
 #include "kernels/ray_marking.hpp"
@@ -43,7 +44,7 @@ struct ThreadMisses {
   // dense_in_use (a thread that walked no ray has none). All zero between
   // scans: ScanUpdate clears the blocks it reads, while they are in cache,
   // instead of another pass over the whole grid before each walk.
-  std::vector<std::uint64_t> dense;
+  HugePageVector<std::uint64_t> dense;
   bool dense_in_use = false;
 
   void clear();
@@ -77,7 +78,7 @@ class ScanRays {
   // The distinct end voxels and their observations, in a fixed order.
   const EndVoxelGroups& ends() const { return ends_; }
   // Per end voxel: 1 when it is a hit (within the max range).
-  const std::vector<std::uint8_t>& end_is_hit() const { return end_is_hit_; }
+  const HugePageVector<std::uint8_t>& end_is_hit() const { return end_is_hit_; }
   // The grid the walk marked into, when the scan's box was small enough;
   // else the threads' masks are per block through their key indices.
   const std::optional<kernels::DenseMaskGrid>& dense_box() const { return dense_box_; }
@@ -119,8 +120,8 @@ class ScanRays {
   std::vector<PointChunk> chunks_;
   std::vector<LocalEndGroups> local_groups_;  // per chunk
   EndVoxelGroups ends_;
-  std::vector<std::uint8_t> end_is_hit_;
-  std::vector<RayEnd> rays_;
+  HugePageVector<std::uint8_t> end_is_hit_;
+  HugePageVector<RayEnd> rays_;
   std::optional<kernels::DenseMaskGrid> dense_box_;
   GridHitList grid_hits_;
   // Set from a dense walk until ScanUpdate has cleared the grids; if still

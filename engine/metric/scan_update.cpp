@@ -26,8 +26,8 @@ struct BlockUpdateInputs {
   kernels::LogOddsMiss miss_update;
   kernels::SimdLevel level;
   const LabelFusion& fusion;
-  const std::vector<VoxelKey>& end_keys;
-  const std::vector<ClassObservation>& observations;
+  std::span<const VoxelKey> end_keys;
+  std::span<const ClassObservation> observations;
   std::span<const std::uint32_t> hits;  // end indices, a block's in its HitRange
 };
 
@@ -75,7 +75,7 @@ std::size_t update_block(SemanticBlock& block, const BlockMask& miss, ScanUpdate
 // voxels at the clamp minimum), and room for a row per hit voxel without
 // evidence yet.
 void prepare_block(SemanticBlocks& blocks, SemanticBlock& block, ScanUpdate::HitRange range,
-                   std::span<const std::uint32_t> hits, const std::vector<VoxelKey>& end_keys,
+                   std::span<const std::uint32_t> hits, std::span<const VoxelKey> end_keys,
                    const OccupancyModel& occ) {
   std::size_t new_rows = 0;
   for (std::uint32_t h = range.begin; h != range.end; ++h) {
@@ -144,8 +144,8 @@ ScanUpdate::UpdateBatch& ScanUpdate::open_batch() {
   return batch;
 }
 
-void ScanUpdate::list_hits_by_merged_block(const std::vector<VoxelKey>& end_keys,
-                                           const std::vector<std::uint8_t>& is_hit) {
+void ScanUpdate::list_hits_by_merged_block(std::span<const VoxelKey> end_keys,
+                                           std::span<const std::uint8_t> is_hit) {
   hit_block_.clear();
   for (std::uint32_t u = 0; u < end_keys.size(); ++u) {
     if (is_hit[u]) hit_block_.push_back(merged_index(pack(block_of(end_keys[u]))));  // created if no ray crossed it
@@ -188,7 +188,7 @@ void ScanUpdate::apply(MetricMap& map, ScanRays& rays, IntegrationStats& stats) 
     merge_dense_grids(dense_grids_, *box, grid_hits, merge_block);
     rays.dense_grids_cleared();
   }
-  const std::vector<VoxelKey>& end_keys = rays.ends().keys();
+  const std::span<const VoxelKey> end_keys = rays.ends().keys();
   std::span<const std::uint32_t> hits = grid_hits.hits();
   if (!grid_hits.listed()) {
     list_hits_by_merged_block(end_keys, rays.end_is_hit());

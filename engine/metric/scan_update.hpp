@@ -63,7 +63,7 @@ class ScanUpdate {
   std::uint32_t merged_index(std::uint64_t packed_block);
   // The hits listed by merged block (hit_list_, hit_range_), for scans whose
   // rays did not list them by grid block.
-  void list_hits_by_merged_block(const std::vector<VoxelKey>& end_keys, const std::vector<std::uint8_t>& is_hit);
+  void list_hits_by_merged_block(std::span<const VoxelKey> end_keys, std::span<const std::uint8_t> is_hit);
   // The batch being filled (a new one when the last is full).
   UpdateBatch& open_batch();
 
