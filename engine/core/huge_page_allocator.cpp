@@ -12,12 +12,12 @@
 namespace sarmap {
 
 std::size_t allocated_array_bytes(std::size_t bytes) {
-  if (bytes < kHugePageBytes) return bytes;
+  if (bytes < kHugePageMinBytes) return bytes;
   return (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
 }
 
 void* allocate_array_bytes(std::size_t bytes) {
-  if (bytes < kHugePageBytes) return ::operator new(bytes, std::align_val_t{kSimdAlignment});
+  if (bytes < kHugePageMinBytes) return ::operator new(bytes, std::align_val_t{kSimdAlignment});
   const std::size_t whole = allocated_array_bytes(bytes);
   if (whole < bytes) throw std::bad_alloc();  // bytes near SIZE_MAX
   void* storage = std::aligned_alloc(kHugePageBytes, whole);
@@ -30,7 +30,7 @@ void* allocate_array_bytes(std::size_t bytes) {
 }
 
 void free_array_bytes(void* storage, std::size_t bytes) noexcept {
-  if (bytes < kHugePageBytes) {
+  if (bytes < kHugePageMinBytes) {
     ::operator delete(storage, std::align_val_t{kSimdAlignment});
   } else {
     std::free(storage);

@@ -35,7 +35,8 @@ using BlockMask = std::array<std::uint64_t, kernels::kMarkBlockWords>;
 // box (dense, no look-up per block) or a mask per block its rays crossed,
 // found through the thread's own key index. Walks share nothing.
 struct ThreadMisses {
-  FlatKeyIndex blocks{4096};
+  // Used by a hashed walk only, and grown there: a dense walk never touches it.
+  FlatKeyIndex blocks{16};
   std::vector<BlockMask> miss;          // per entry of blocks
   std::uint64_t* miss_words = nullptr;  // miss.data() as words, for the marking kernel
   std::size_t visits = 0;

@@ -39,7 +39,7 @@ std::string vm_flags_of(const void* p) {
 }
 
 TEST(HugePageAllocator, SmallArraysAreCacheLineAlignedAndCountedAsAsked) {
-  for (const std::size_t bytes : {std::size_t{1}, std::size_t{1000}, kHugePageBytes - 1}) {
+  for (const std::size_t bytes : {std::size_t{1}, std::size_t{1000}, kHugePageMinBytes - 1}) {
     void* p = allocate_array_bytes(bytes);
     EXPECT_EQ(address(p) % kSimdAlignment, 0u) << bytes;
     EXPECT_EQ(allocated_array_bytes(bytes), bytes);
@@ -49,6 +49,8 @@ TEST(HugePageAllocator, SmallArraysAreCacheLineAlignedAndCountedAsAsked) {
 }
 
 TEST(HugePageAllocator, LargeArraysTakeWholeAlignedHugePagesAdvisedAsHuge) {
+  EXPECT_EQ(allocated_array_bytes(kHugePageMinBytes - 1), kHugePageMinBytes - 1);
+  EXPECT_EQ(allocated_array_bytes(kHugePageMinBytes), kHugePageBytes);
   EXPECT_EQ(allocated_array_bytes(kHugePageBytes), kHugePageBytes);
   EXPECT_EQ(allocated_array_bytes(kHugePageBytes + 1), 2 * kHugePageBytes);
   EXPECT_EQ(allocated_array_bytes(3 * kMiB + 1), 4 * kMiB);
@@ -94,6 +96,17 @@ TEST(HugePageAllocator, ScratchIsReservedInWholeHugePagesFromAnEighthOfOne) {
   reserve_whole_huge_pages(odd, (5 * kMiB) / sizeof(Twelve));
   EXPECT_EQ(odd.capacity(), (6 * kMiB) / sizeof(Twelve));
   EXPECT_EQ(capacity_bytes(odd), 6 * kMiB);
+
+  // Elements that leave bytes over in one huge page (2 MiB / 24 = 87,381
+  // rest 8) still fill it, on huge pages.
+  struct TwentyFour {
+    double v[3];
+  };
+  HugePageVector<TwentyFour> rays;
+  reserve_whole_huge_pages(rays, 15000);
+  EXPECT_EQ(rays.capacity(), kHugePageBytes / sizeof(TwentyFour));
+  EXPECT_EQ(capacity_bytes(rays), kHugePageBytes);
+  EXPECT_EQ(address(rays.data()) % kHugePageBytes, 0u);
 
   // Never shrinks, and keeps what it holds.
   eighth.assign(10, 7);
