@@ -42,10 +42,10 @@ std::size_t ThreadMisses::memory_bytes() const {
 kernels::DenseMaskGrid ThreadMisses::dense_grid(const kernels::DenseMaskGrid& box) {
   if (!dense_in_use) {
     const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(box);
-    if (dense.size() < words) {
+    if (dense.size() < words) {  // all zero already up to size()
       reserve_whole_huge_pages(dense, words);
       dense.resize(words, 0);
-    }  // all zero already
+    }
     dense_in_use = true;
   }
   kernels::DenseMaskGrid grid = box;
