@@ -67,4 +67,12 @@ void reserve_whole_huge_pages(HugePageVector<T>& v, std::size_t n) {
   v.reserve(n);
 }
 
+// resize(n, value) with room reserved as reserve_whole_huge_pages does:
+// the one way scratch that grows with the scan is sized.
+template <class T>
+void resize_in_whole_huge_pages(HugePageVector<T>& v, std::size_t n, const T& value = T{}) {
+  reserve_whole_huge_pages(v, n);
+  v.resize(n, value);
+}
+
 }  // namespace sarmap

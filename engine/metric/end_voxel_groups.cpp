@@ -89,8 +89,7 @@ void EndVoxelGroups::merge(std::span<const LocalEndGroups> stretches, std::size_
   used_dense_ = cells != 0 && cells <= max_dense_cells;
   if (used_dense_) {
     if (dense_.size() < cells) {
-      reserve_whole_huge_pages(dense_, cells);
-      dense_.resize(cells, 0);
+      resize_in_whole_huge_pages(dense_, cells);
     }
     const std::size_t ex = static_cast<std::size_t>(box.hi.x - box.lo.x + 1);
     const std::size_t exy = ex * static_cast<std::size_t>(box.hi.y - box.lo.y + 1);

@@ -43,8 +43,7 @@ kernels::DenseMaskGrid ThreadMisses::dense_grid(const kernels::DenseMaskGrid& bo
   if (!dense_in_use) {
     const std::size_t words = kernels::kMarkBlockWords * kernels::dense_grid_blocks(box);
     if (dense.size() < words) {  // all zero already up to size()
-      reserve_whole_huge_pages(dense, words);
-      dense.resize(words, 0);
+      resize_in_whole_huge_pages(dense, words);
     }
     dense_in_use = true;
   }
@@ -302,7 +301,7 @@ void ScanRays::compute(const IntegratorSettings& settings, double resolution, co
     // One ray per end voxel, to its centre, computed in parallel, then the
     // voxels without a ray (beyond range, not clearing) squeezed out.
     const auto& end_keys = ends_.keys();
-    rays_.resize(end_keys.size());
+    resize_in_whole_huge_pages(rays_, end_keys.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, end_keys.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t u = range.begin(); u != range.end(); ++u) {
@@ -397,7 +396,10 @@ std::span<const LocalEndGroups> ScanRays::group_points(const IntegratorSettings&
     throw Error(ErrorCode::InvalidData, "ray integrator: point " + std::to_string(i) + " has label " +
                                             std::to_string(labels[i]) + "; class ids are 0..5");
   }
+  std::size_t ray_count = 0;
+  for (std::size_t c = 0; c < chunk_count; ++c) ray_count += chunks_[c].rays.size();
   rays_.clear();
+  reserve_whole_huge_pages(rays_, ray_count);
   for (std::size_t c = 0; c < chunk_count; ++c) {
     stats.points_rejected += chunks_[c].rejected;
     rays_.insert(rays_.end(), chunks_[c].rays.begin(), chunks_[c].rays.end());
@@ -425,8 +427,7 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
   const kernels::DenseMaskGrid grid = *dense_box_;
   std::size_t most = 0;  // end voxels at most: the chunks' groups
   for (const LocalEndGroups& stretch : stretches) most += stretch.keys().size();
-  reserve_whole_huge_pages(rays_, most);
-  rays_.resize(most);
+  resize_in_whole_huge_pages(rays_, most);
   dense_dirty_ = true;
   stats.dense_walks += 1;
   const std::size_t grain = walk_grain(most);
@@ -458,8 +459,7 @@ void ScanRays::merge_while_walking(const IntegratorSettings& settings, double re
     hand_on();
     // While the last rays are walked: which ends are hits, listed by grid
     // block, so that the update's serial part need not list them.
-    reserve_whole_huge_pages(end_is_hit_, ends_.size());
-    end_is_hit_.resize(ends_.size());
+    resize_in_whole_huge_pages(end_is_hit_, ends_.size());
     const auto& keys = ends_.keys();
     for (std::size_t u = 0; u < keys.size(); ++u) {
       const VoxelKey& k = keys[u];

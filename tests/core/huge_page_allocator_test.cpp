@@ -116,5 +116,25 @@ TEST(HugePageAllocator, ScratchIsReservedInWholeHugePagesFromAnEighthOfOne) {
   EXPECT_EQ(eighth[9], 7u);
 }
 
+TEST(HugePageAllocator, ResizesInWholeHugePagesKeepingWhatItHolds) {
+  HugePageVector<std::uint32_t> grid;
+  resize_in_whole_huge_pages(grid, 3, 5u);
+  EXPECT_EQ(grid, (HugePageVector<std::uint32_t>{5, 5, 5}));
+  EXPECT_EQ(grid.capacity(), 3u);  // under an eighth of a huge page: as asked
+
+  const std::size_t n = kHugePageBytes / 4 / sizeof(std::uint32_t) + 1;
+  resize_in_whole_huge_pages(grid, n);
+  ASSERT_EQ(grid.size(), n);
+  EXPECT_EQ(grid[2], 5u);
+  EXPECT_EQ(grid[3], 0u);
+  EXPECT_EQ(grid[n - 1], 0u);
+  EXPECT_EQ(grid.capacity() * sizeof(std::uint32_t), kHugePageBytes);
+  EXPECT_EQ(address(grid.data()) % kHugePageBytes, 0u);
+
+  resize_in_whole_huge_pages(grid, 2);  // shrinking keeps the room
+  EXPECT_EQ(grid.size(), 2u);
+  EXPECT_EQ(grid.capacity() * sizeof(std::uint32_t), kHugePageBytes);
+}
+
 }  // namespace
 }  // namespace sarmap
