@@ -1,11 +1,12 @@
 // sarmap's metric map against OctoMap (Debian's liboctomap) in one binary, on
 // the same simulated sequence: OctoMap's insertPointCloud(..., discretize=true)
 // versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, fed
-// one frame at a time and as a sequence (integrate_sequence), and both at
-// 320 x 240 and 640 x 480; the building arena (52 x 15 m) at 640 x 480 for a
-// larger map. Each iteration maps all frames into a fresh map; each case
-// runs three times (the building arena's OctoMap once) and reports the
-// fastest too.
+// one frame at a time (also with the caches evicted between frames, as
+// between a pipeline's metric stages) and as a sequence (integrate_sequence),
+// and both at 320 x 240 and 640 x 480; the building arena (52 x 15 m) at
+// 640 x 480 for a larger map. Each iteration maps all frames into a fresh
+// map; each case runs three times (the building arena's OctoMap once) and
+// reports the fastest too.
 // Memory, after the last frame: OctoMap's memoryUsage(); sarmap's map as it
 // counts its own allocations (MetricMap::memory_bytes: block records and
 // their hash table, log-odds slabs, evidence rows, each also on its own),
@@ -26,6 +27,7 @@
 
 #include "bench/metric/fastest_run.hpp"
 #include "bench/metric/sequence_fixture.hpp"
+#include "engine/core/wake_workers.hpp"
 #include "engine/metric/ray_integrator.hpp"
 #include "kernels/simd_level.hpp"
 
@@ -89,10 +91,22 @@ void BM_OctoMap(benchmark::State& state) {
 
 // How sarmap is given the frames: one integrate() call per frame, or the
 // whole sequence to integrate_sequence(), which traces frame k's rays while
-// frame k - 1 is written into the map (as the Mapper's stream does).
-enum class Feed { PerScan, Sequence };
+// frame k - 1 is written into the map (as the Mapper's stream does), or one
+// call per frame with the caches evicted between frames, untimed: inside
+// `sarmap run` and the Mapper the other stages run between two scans'
+// metric stages and leave their own data in the caches (and the workers
+// asleep, which the Mapper wakes ahead of the stage, as this does).
+enum class Feed { PerScan, Sequence, PerScanCachesEvicted };
 
-// Args: resolution in mm, image width, threads.
+// Writes one word in every cache line of words: what a stage that touches
+// that much memory leaves of the caches' earlier contents.
+void evict_caches(std::vector<std::uint64_t>& words) {
+  for (std::size_t w = 0; w < words.size(); w += 8) words[w] += 1;
+  benchmark::DoNotOptimize(words.data());
+}
+
+// Args: resolution in mm, image width, threads (and for
+// PerScanCachesEvicted the MiB written between frames).
 template <Feed feed, Sequence sequence = sarmap::bench::default_arena_sequence>
 void BM_Sarmap(benchmark::State& state) {
   const double res = state.range(0) / 1000.0;
@@ -104,11 +118,23 @@ void BM_Sarmap(benchmark::State& state) {
   std::size_t known = 0, bytes = 0, scratch = 0;
   sarmap::metric::SemanticBlocks::Memory parts;
   sarmap::metric::RayIntegrator integrator;
+  std::vector<std::uint64_t> evicting;
+  if constexpr (feed == Feed::PerScanCachesEvicted) {
+    evicting.assign(static_cast<std::size_t>(state.range(3)) << 17, 0);  // MiB in 8-byte words
+  }
   for (auto _ : state) {
     sarmap::metric::MetricMap map(sarmap::metric::settings_at_resolution(res));
     stats = {};
     if constexpr (feed == Feed::PerScan) {
       for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
+    } else if constexpr (feed == Feed::PerScanCachesEvicted) {
+      for (const Scan& s : scans) {
+        stats += integrator.integrate(map, s.points, s.origin);
+        state.PauseTiming();
+        evict_caches(evicting);
+        sarmap::wake_workers();  // as the Mapper does before its metric stage
+        state.ResumeTiming();
+      }
     } else {
       for (const auto& one : integrator.integrate_sequence(map, scans)) stats += one;
     }
@@ -148,6 +174,12 @@ BENCHMARK(BM_Sarmap<Feed::PerScan>)->Name("BM_Sarmap")->ArgNames({"res_mm", "wid
     ->Repetitions(3)->ComputeStatistics("min", fastest);
 BENCHMARK(BM_Sarmap<Feed::Sequence>)->Name("BM_SarmapSequence")->ArgNames({"res_mm", "width", "threads"})
     ->Args({50, 320, 1})->Args({50, 320, 2})->Args({25, 320, 1})->Args({25, 320, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
+// The scan-by-scan path as a pipeline runs it: 16 MiB is about the memory
+// the run's segment and topo stages touch per scan of the default arena.
+BENCHMARK(BM_Sarmap<Feed::PerScanCachesEvicted>)->Name("BM_SarmapCachesEvicted")
+    ->ArgNames({"res_mm", "width", "threads", "evict_MiB"})->Args({50, 320, 2, 16})->Args({50, 320, 2, 64})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
 // Scaling with image size; OctoMap at 640 x 480 only at 0.05 m (0.025 m takes minutes).
