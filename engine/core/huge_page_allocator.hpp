@@ -67,8 +67,8 @@ void reserve_whole_huge_pages(HugePageVector<T>& v, std::size_t n) {
   v.reserve(n);
 }
 
-// resize(n, value) with room reserved as reserve_whole_huge_pages does:
-// the one way scratch that grows with the scan is sized.
+// resize(n, value) with room reserved as reserve_whole_huge_pages reserves
+// it: for scratch that grows with the scan and is resized, not refilled.
 template <class T>
 void resize_in_whole_huge_pages(HugePageVector<T>& v, std::size_t n, const T& value = T{}) {
   reserve_whole_huge_pages(v, n);
