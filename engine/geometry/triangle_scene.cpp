@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
 
 #include "engine/core/error.hpp"
@@ -113,6 +114,22 @@ void record_lowest(std::atomic<std::size_t>& lowest, std::size_t i) {
   }
 }
 
+// The process's one Embree device, retained for the caller. Scenes share it
+// because the topological map builds a wall scene at every update, and a
+// device of its own cost each of them more than the scene's build (PERF.md).
+// Embree allows scenes of one device to be built and traced from any number
+// of threads. Created on first use; a failed creation is tried again next
+// time.
+RTCDevice shared_device() {
+  static std::mutex creating;
+  static RTCDevice device = nullptr;
+  const std::lock_guard<std::mutex> lock(creating);
+  if (device == nullptr) device = rtcNewDevice(nullptr);
+  if (device == nullptr) throw Error(ErrorCode::InvalidData, "Embree: cannot create a device");
+  rtcRetainDevice(device);
+  return device;
+}
+
 // Each task takes this many segments: enough to amortise the task, few
 // enough that 1k edges still spread over both cores. A multiple of 16.
 constexpr std::size_t kSegmentsPerTask = 256;
@@ -121,8 +138,10 @@ constexpr std::size_t kSegmentsPerTask = 256;
 
 TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality)
     : impl_(std::make_unique<Impl>()) {
-  impl_->device = rtcNewDevice(nullptr);
-  if (impl_->device == nullptr) throw Error(ErrorCode::InvalidData, "Embree: cannot create a device");
+  impl_->device = shared_device();
+  // Embree keeps one pending error per thread and device: one this thread
+  // left from an earlier call must not be taken for this scene's.
+  rtcGetDeviceError(impl_->device);
   impl_->scene = rtcNewScene(impl_->device);
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->scene, embree_quality(quality));

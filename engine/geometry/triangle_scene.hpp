@@ -1,7 +1,7 @@
 // Classed triangle meshes in one Embree scene, one geometry per mesh: first
 // hits of rays (the simulated sensors, ground heights, rendered pictures) and
 // batched occlusion of line segments (the topological map's edges against its
-// walls).
+// walls). All scenes share one Embree device, created on first use.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,7 @@
 // Tests of engine/geometry/triangle_scene.hpp's ray queries and mesh checks:
 // the first hit and its class, the ray interval, single rays and packets
-// giving the same hits, and bad meshes refused with the mesh's name.
+// giving the same hits, bad meshes refused with the mesh's name, and scenes
+// (which share one Embree device) built and traced on many threads at once.
 #include "engine/geometry/triangle_scene.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "engine/core/error.hpp"
@@ -179,6 +182,43 @@ TEST(TriangleScene, BadMeshesAreRefusedByName) {
   bad.vertices[0].x() = 3e5f;
   EXPECT_EQ(build_error(bad), "crate 7: vertex 0 lies beyond 100000 m");
   EXPECT_EQ(build_error(m), "");
+}
+
+// Every scene shares the process's Embree device: scenes built, traced and
+// released on several threads at once, while an older scene lives on, each
+// answer as the same scene gives it built alone on one thread.
+TEST(TriangleScene, ScenesOnManyThreadsAtOnceAnswerAsBuiltAlone) {
+  constexpr int kThreads = 4, kScenesPerThread = 25;
+  // Scene s: a wall across x = 1 + s / 10; a ray from the origin along x hits it at t = 0.9 + s / 10.
+  const auto scene_of = [](int s) {
+    return std::vector<ClassedMesh>{labelled(box_mesh(yawed_box({1 + s / 10.0, 0, 0.5}, {0.2, 2, 1}, 0)),
+                                             ClassId::Wall, "wall " + std::to_string(s))};
+  };
+  const auto first_hit = [](const TriangleScene& scene) { return scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 100); };
+  std::vector<float> alone(kThreads * kScenesPerThread);
+  for (int s = 0; s < kThreads * kScenesPerThread; ++s) alone[s] = first_hit(TriangleScene(scene_of(s))).t;
+  const TriangleScene older(wall_and_box());
+  std::vector<float> together(alone.size(), -1);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int k = 0; k < kScenesPerThread; ++k) {
+        const int s = t * kScenesPerThread + k;
+        const TriangleScene scene(scene_of(s), BuildQuality::Low);
+        const TriangleScene::Hit hit = first_hit(scene);
+        together[s] = hit.hit ? hit.t : -2;
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (std::size_t s = 0; s < alone.size(); ++s) {
+    EXPECT_NEAR(alone[s], 0.9f + static_cast<float>(s) / 10, 1e-5) << "scene " << s;
+    EXPECT_EQ(together[s], alone[s]) << "scene " << s;
+  }
+  const TriangleScene::Hit hit = first_hit(older);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 1.9, 1e-6);
+  EXPECT_EQ(hit.label, ClassId::Wall);
 }
 
 }  // namespace
