@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/core/capacity_bytes.hpp"
+
 namespace sarmap {
 
 template <class Fn>
@@ -24,6 +26,17 @@ void PointBuffer::for_each_array(Fn&& fn) {
     fn(nz_);
   }
   for (auto& s : scores_) fn(s);
+}
+
+std::size_t PointBuffer::memory_bytes() const {
+  // for_each_array's arrays, the attributes not enabled included: they hold
+  // nothing unless a buffer once had them.
+  std::size_t bytes = capacity_bytes(x_) + capacity_bytes(y_) + capacity_bytes(z_) + capacity_bytes(labels_) +
+                      capacity_bytes(gt_labels_) + capacity_bytes(red_) + capacity_bytes(green_) +
+                      capacity_bytes(blue_) + capacity_bytes(intensity_) + capacity_bytes(nx_) +
+                      capacity_bytes(ny_) + capacity_bytes(nz_);
+  for (const auto& s : scores_) bytes += capacity_bytes(s);
+  return bytes;
 }
 
 void PointBuffer::resize(std::size_t count) {

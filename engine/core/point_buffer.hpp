@@ -101,6 +101,8 @@ class PointBuffer {
   std::size_t remove_farther_than(const Eigen::Vector3d& centre, double distance);
   // Bounds of the coordinates (empty for an empty buffer).
   Bounds bounds() const;
+  // Bytes its arrays hold, by capacity (engine/core/capacity_bytes.hpp).
+  std::size_t memory_bytes() const;
   // Copies the set of enabled attributes (not their values) from other.
   void enable_attributes_of(const PointBuffer& other);
 

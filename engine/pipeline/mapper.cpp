@@ -9,6 +9,8 @@
 #include <string_view>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/prefetched_key_walk.hpp"
@@ -219,7 +221,11 @@ void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& 
                 {"rejected_steep", u.rejected_steep},
                 {"rejected_unknown", u.rejected_unknown}});
   }
-  keep_semantic_points(scan.points);
+  {
+    const auto timer = profile.time("semantic_points");
+    profile.add_count("semantic_points", "points_kept", static_cast<double>(keep_semantic_points(scan.points)));
+  }
+  profile.set_level("semantic_points", "bytes", static_cast<double>(semantic_points_bytes()));
 }
 
 void Mapper::finish() {
@@ -318,14 +324,12 @@ void Mapper::forget_dropped_regions(std::uint64_t classify_number, StageProfile&
   for (const std::uint64_t key : keys) semantic_keys_.find_or_insert(key);
 }
 
-void Mapper::keep_semantic_points(const PointBuffer& points) {
-  if (config_.semantic_points_voxel <= 0) return;
+std::size_t Mapper::keep_semantic_points(const PointBuffer& points) {
+  if (config_.semantic_points_voxel <= 0) return 0;
   const double inv = 1.0 / config_.semantic_points_voxel;
   // Where labels arrive late, a voxel keeps its first classified point: an
   // unknown one now would hide the class a later scan brings.
   const bool skip_unknown = classifier_->labels_arrive_late() && points.has_labels();
-  std::vector<std::uint32_t> keep;
-  const std::size_t keep_before = semantic_keys_.size();
   const auto voxel_key = [&](std::size_t i, std::uint64_t& key) {
     const double x = points.x()[i], y = points.y()[i], z = points.z()[i];
     if (!metric::within_map_limits(x, y, z)) return false;
@@ -333,13 +337,31 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
     key = metric::pack(metric::key_of(x, y, z, inv));
     return true;
   };
-  // A point is kept when it is the first in its voxel.
-  const auto keep_if_new = [&](std::size_t i, std::uint64_t key, bool repeat) {
-    if (!repeat && semantic_keys_.find_or_insert(key) == keep_before + keep.size()) {
-      keep.push_back(static_cast<std::uint32_t>(i));
+  // Most points fall in voxels that earlier scans' points hold. Those are
+  // found first, in parallel and leaving the index as it is; then, in input
+  // order, each remaining point is kept when it is the first in its voxel:
+  // the points one pass in order would keep, on any number of threads.
+  constexpr std::size_t kChunk = 4096;
+  const std::size_t chunks = (points.size() + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint64_t>>> unseen(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    // A repeat (the point before in the same voxel) is in an indexed voxel,
+    // or in a new one whose first point that one is: never kept.
+    const auto note_unseen = [&unseen, c, this](std::size_t i, std::uint64_t key, bool repeat) {
+      if (!repeat && semantic_keys_.find(key) == FlatKeyIndex::kAbsent) {
+        unseen[c].emplace_back(static_cast<std::uint32_t>(i), key);
+      }
+    };
+    walk_keys_prefetched(semantic_keys_, c * kChunk, std::min(points.size(), (c + 1) * kChunk), voxel_key,
+                         note_unseen);
+  });
+  std::vector<std::uint32_t> keep;
+  const std::size_t keep_before = semantic_keys_.size();
+  for (const auto& chunk : unseen) {
+    for (const auto& [i, key] : chunk) {
+      if (semantic_keys_.find_or_insert(key) == keep_before + keep.size()) keep.push_back(i);
     }
-  };
-  walk_keys_prefetched(semantic_keys_, 0, points.size(), voxel_key, keep_if_new);
+  }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.
   PointBuffer kept = points.select(keep);
   PointBuffer slim;
@@ -356,6 +378,7 @@ void Mapper::keep_semantic_points(const PointBuffer& points) {
     std::copy(kept.score(c).begin(), kept.score(c).end(), slim.score(channel).begin());
   }
   semantic_points_.append(slim);
+  return keep.size();
 }
 
 }  // namespace sarmap::pipeline

@@ -179,6 +179,9 @@ class Mapper {
   // Classified points kept so far: label = prediction, its per-class scores
   // when the classifier gives them, gt_label = the input's label when it had one.
   const PointBuffer& semantic_points() const { return semantic_points_; }
+  // Bytes the kept points take: their arrays and the index of their voxels,
+  // by capacity. Map state beside the metric map, which does not count it.
+  std::size_t semantic_points_bytes() const { return semantic_points_.memory_bytes() + semantic_keys_.memory_bytes(); }
   StageProfile& profile() { return profile_; }
   const StageProfile& profile() const { return profile_; }
 
@@ -223,7 +226,9 @@ class Mapper {
   void refuse_scans_if_merged() const;
   // integrate()'s error naming the scan.
   static Error scan_error(const Scan& scan, const Error& e);
-  void keep_semantic_points(const PointBuffer& points);
+  // Keeps each point that is the first in its voxel (semantic_points_voxel);
+  // returns how many it kept.
+  std::size_t keep_semantic_points(const PointBuffer& points);
   // Whether the blocks dropped since the last forget_dropped_regions() call
   // are enough to make it worth one.
   bool forgetting_due() const;

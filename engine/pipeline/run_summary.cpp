@@ -90,6 +90,7 @@ Json run_summary_json(const Mapper& mapper) {
                                  {"never", delays.waiting()}}}};
   }
   j["semantic_points"] = mapper.semantic_points().size();
+  j["semantic_points_bytes"] = mapper.semantic_points_bytes();
 
   std::array<std::size_t, kClassCount> segments_by_class{};
   const std::vector<const segments::Segment*> segments = mapper.segment_map().segments();

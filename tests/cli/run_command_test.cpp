@@ -108,7 +108,8 @@ TEST_F(RunCommand, WritesEveryOutput) {
     }
     EXPECT_LE(stage.at("p50_s").get<double>(), stage.at("max_s").get<double>()) << name;
   }
-  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "classify", "metric", "segment", "topo"}));
+  EXPECT_EQ(stages, (std::vector<std::string>{"read", "preprocess", "classify", "metric", "segment", "topo",
+                                              "semantic_points"}));
   const auto& pre = profile.at("stages").at("preprocess");
   EXPECT_EQ(pre.at("points_in").get<double>(), 5.0);
   EXPECT_EQ(pre.at("points_out").get<double>(), 5.0);
@@ -125,7 +126,8 @@ TEST_F(RunCommand, WritesEveryOutput) {
   std::vector<std::string> row;
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
   EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s",
-                                           "latency_s", "metric_map_bytes", "metric_integrator_scratch_bytes"}));
+                                           "semantic_points_s", "latency_s", "metric_map_bytes",
+                                           "metric_integrator_scratch_bytes", "semantic_points_bytes"}));
   // A scan's latency covers at least its own stages.
   for (const auto& scan : profile.at("per_scan")) {
     double stages_s = 0;
@@ -175,6 +177,10 @@ TEST_F(RunCommand, WritesEveryOutput) {
             profile.at("stages").at("metric").at("map_bytes"));
   EXPECT_GE(summary.at("metric_map").at("bytes").get<std::size_t>(), map.memory_bytes());
   EXPECT_EQ(summary.at("semantic_points").get<std::size_t>(), 5u);
+  // The kept points' bytes, beside the map's: the run's after its last scan.
+  EXPECT_EQ(profile.at("stages").at("semantic_points").at("points_kept").get<double>(), 5.0);
+  EXPECT_EQ(summary.at("semantic_points_bytes").get<double>(),
+            profile.at("stages").at("semantic_points").at("bytes").get<double>());
   EXPECT_EQ(summary.at("segments").at("count").get<int>(), 0);
   EXPECT_EQ(summary.at("topo_map").at("nodes").get<int>(), 0);
 }

@@ -98,13 +98,15 @@ class RunResume : public ::testing::Test {
     for (const std::string& name : kCompared) {
       EXPECT_TRUE(read_all(a / name) == read_all(b / name)) << name << " differs between " << a << " and " << b;
     }
-    // summary.json's figures too, but for its timings and the map's bytes:
-    // a resumed map is packed afresh from the checkpoint, without the
-    // storage the uninterrupted one keeps for reuse (docs/formats.md).
+    // summary.json's figures too, but for its timings and the bytes of the
+    // map and the kept points: a resumed run packs them afresh from the
+    // checkpoint, without the storage the uninterrupted one keeps for reuse
+    // or has grown into (docs/formats.md).
     const auto figures = [](const fs::path& folder) {
       auto summary = nlohmann::json::parse(read_all(folder / "summary.json"));
       for (const char* timing : {"wall_s", "scans_per_second", "stages", "latency"}) summary.erase(timing);
       summary.at("metric_map").erase("bytes");
+      summary.erase("semantic_points_bytes");
       return summary;
     };
     EXPECT_EQ(figures(a), figures(b)) << "summary.json differs between " << a << " and " << b;

@@ -1,11 +1,17 @@
 // The pipeline's Mapper on synthetic scans: stages and counters in the
-// profile, the labels classifier, and one kept semantic point per voxel.
+// profile, the labels classifier, and one kept semantic point per voxel (the
+// first, on any number of threads).
 #include "engine/pipeline/mapper.hpp"
 
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
 #include <limits>
+#include <random>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "engine/core/error.hpp"
 #include "engine/metric/voxel_key.hpp"
@@ -61,6 +67,66 @@ TEST(Mapper, RunsTheStagesAndProfilesThem) {
   }
   EXPECT_EQ(voxels.size(), kept.size());
   EXPECT_LT(kept.size(), points / 4);
+  // Their own stage: the points kept, and their bytes beside the metric map's.
+  EXPECT_DOUBLE_EQ(p.counter("semantic_points", "points_kept"), static_cast<double>(kept.size()));
+  const StageProfile::LevelStats kept_bytes = p.level("semantic_points", "bytes");
+  EXPECT_EQ(kept_bytes.scans, 3u);
+  EXPECT_EQ(kept_bytes.last, static_cast<double>(mapper.semantic_points_bytes()));
+  EXPECT_GE(mapper.semantic_points_bytes(), kept.size() * (3 * sizeof(float) + 2) + mapper.semantic_points().size() * 8);
+}
+
+// The kept points against a plain reference: every point in input order,
+// kept when it is the first in its voxel. Scans of several thousand points
+// (so that the lookups run in pieces on several threads), points repeated
+// back to back, voxels shared between scans, on one thread and on four.
+TEST(Mapper, KeepsTheFirstPointOfEachVoxelOnAnyThreadCount) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> coordinate(-1.0f, 1.0f);
+  std::vector<PointBuffer> scans(3);
+  for (PointBuffer& points : scans) {
+    points.enable_labels();
+    points.enable_gt_labels();
+    while (points.size() < 10000) {
+      const float x = coordinate(rng), y = coordinate(rng), z = coordinate(rng) + 1.5f;
+      const int copies = rng() % 4 == 0 ? 2 : 1;
+      for (int k = 0; k < copies; ++k) {
+        points.push_back(x, y, z);
+        points.labels().back() = points.gt_labels().back() = static_cast<std::uint8_t>(ClassId::Wall);
+      }
+    }
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> expected;  // (scan, point)
+  std::set<std::uint64_t> voxels;
+  for (std::size_t s = 0; s < scans.size(); ++s) {
+    for (std::size_t i = 0; i < scans[s].size(); ++i) {
+      const auto key = metric::pack(metric::key_of(scans[s].x()[i], scans[s].y()[i], scans[s].z()[i], 1 / 0.1));
+      if (voxels.insert(key).second) expected.emplace_back(s, i);
+    }
+  }
+  for (const int threads : {1, 4}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    MapperConfig config;
+    config.voxel = 0.1;
+    config.semantic_points_voxel = 0.1;
+    config.classifier.kind = pipeline::ClassifierKind::Labels;
+    Mapper mapper(config, SensorInfo{});
+    for (const PointBuffer& points : scans) {
+      Scan scan;
+      scan.points = points;
+      scan.origin = Eigen::Vector3d(0, 0, 1.5);
+      mapper.integrate(scan);
+    }
+    const PointBuffer& kept = mapper.semantic_points();
+    ASSERT_EQ(kept.size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      const auto [s, i] = expected[k];
+      ASSERT_EQ(kept.x()[k], scans[s].x()[i]) << "kept point " << k;
+      ASSERT_EQ(kept.y()[k], scans[s].y()[i]) << "kept point " << k;
+      ASSERT_EQ(kept.z()[k], scans[s].z()[i]) << "kept point " << k;
+    }
+    EXPECT_DOUBLE_EQ(mapper.profile().counter("semantic_points", "points_kept"), static_cast<double>(expected.size()));
+  }
 }
 
 // Scans whose box is too large for the dense marking grid are counted.
