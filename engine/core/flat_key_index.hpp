@@ -2,7 +2,7 @@
 // insertion order: the metric integrator's per-scan scratch (end-voxel
 // dedupe, the blocks a thread's rays touch), the segment map's voxel index,
 // the metric map's index of its pooled blocks (block_map.hpp), the labelled
-// point map's cells, the Mapper's kept-point voxels, and through FlatKeyMap
+// point map's cells, and through FlatKeyMap
 // (flat_key_map.hpp) the grid tables of the label rules, the surface normals
 // and the topological map.
 // Hand-written because it sits in the ray loop and
@@ -10,7 +10,8 @@
 // tbb::concurrent_hash_map on the same look-up stream. Linear probing, so an
 // erase shifts the entries after it back instead of leaving tombstones, and
 // the last key takes the erased key's index, so indices stay dense and a
-// caller's arrays indexed by them stay packed.
+// caller's arrays indexed by them stay packed. A set of keys that needs no
+// indices is a FlatKeySet (flat_key_set.hpp), in less than half the bytes.
 #pragma once
 
 #include <cstdint>

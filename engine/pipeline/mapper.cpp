@@ -318,10 +318,14 @@ void Mapper::forget_dropped_regions(std::uint64_t classify_number, StageProfile&
   profile.add_count("metric", "semantic_points_forgotten", static_cast<double>(forgotten));
   if (forgotten == 0) return;
   semantic_points_ = semantic_points_.select(keep);
-  std::vector<std::uint64_t> keys(keep.size());
-  for (std::size_t k = 0; k < keep.size(); ++k) keys[k] = semantic_keys_.keys()[keep[k]];
-  semantic_keys_ = FlatKeyIndex(keys.size());
-  for (const std::uint64_t key : keys) semantic_keys_.find_or_insert(key);
+  semantic_keys_ = FlatKeySet(keep.size());
+  for (std::size_t i = 0; i < semantic_points_.size(); ++i) semantic_keys_.insert(semantic_key(i));
+}
+
+std::uint64_t Mapper::semantic_key(std::size_t i) const {
+  // As keep_semantic_points keyed the point: its float coordinates, widened.
+  const double x = semantic_points_.x()[i], y = semantic_points_.y()[i], z = semantic_points_.z()[i];
+  return metric::pack(metric::key_of(x, y, z, 1.0 / config_.semantic_points_voxel));
 }
 
 std::size_t Mapper::keep_semantic_points(const PointBuffer& points) {
@@ -348,7 +352,7 @@ std::size_t Mapper::keep_semantic_points(const PointBuffer& points) {
     // A repeat (the point before in the same voxel) is in an indexed voxel,
     // or in a new one whose first point that one is: never kept.
     const auto note_unseen = [&unseen, c, this](std::size_t i, std::uint64_t key, bool repeat) {
-      if (!repeat && semantic_keys_.find(key) == FlatKeyIndex::kAbsent) {
+      if (!repeat && !semantic_keys_.contains(key)) {
         unseen[c].emplace_back(static_cast<std::uint32_t>(i), key);
       }
     };
@@ -356,10 +360,9 @@ std::size_t Mapper::keep_semantic_points(const PointBuffer& points) {
                          note_unseen);
   });
   std::vector<std::uint32_t> keep;
-  const std::size_t keep_before = semantic_keys_.size();
   for (const auto& chunk : unseen) {
     for (const auto& [i, key] : chunk) {
-      if (semantic_keys_.find_or_insert(key) == keep_before + keep.size()) keep.push_back(i);
+      if (semantic_keys_.insert(key)) keep.push_back(i);
     }
   }
   // Only what semantic_points.ply carries: position, prediction, scores, truth.

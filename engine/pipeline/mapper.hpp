@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/core/flat_key_index.hpp"
+#include "engine/core/flat_key_set.hpp"
 #include "engine/core/point_buffer.hpp"
 #include "engine/core/scan.hpp"
 #include "engine/core/sensor_info.hpp"
@@ -229,6 +229,8 @@ class Mapper {
   // Keeps each point that is the first in its voxel (semantic_points_voxel);
   // returns how many it kept.
   std::size_t keep_semantic_points(const PointBuffer& points);
+  // The voxel key of kept point i.
+  std::uint64_t semantic_key(std::size_t i) const;
   // Whether the blocks dropped since the last forget_dropped_regions() call
   // are enough to make it worth one.
   bool forgetting_due() const;
@@ -265,8 +267,8 @@ class Mapper {
   std::vector<ClassifierForget> classifier_forgets_;  // by at_classify
   std::mutex classifier_forgets_mutex_;               // the maps' stages add while a classify stage takes
   Bounds classes_changed_;  // voxels the classifier of the accumulated map relabelled, for the next topo update
-  // The voxels holding a kept point; key i is kept point i's voxel.
-  FlatKeyIndex semantic_keys_;
+  // The voxels holding a kept point (semantic_key of each).
+  FlatKeySet semantic_keys_;
 };
 
 }  // namespace sarmap::pipeline

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/metric/voxel_key.hpp"
 #include "engine/pipeline/mapper.hpp"
 
 namespace sarmap::pipeline {
@@ -28,7 +29,10 @@ void Mapper::save_state(StateWriter& out) const {
   segments_.save_state(out);
   topo_.save_state(out);
   semantic_points_.save_state(out);
-  out.put_vector(semantic_keys_.keys());
+  // Each kept point's voxel key, in point order (the set itself has no order).
+  std::vector<std::uint64_t> keys(semantic_points_.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) keys[i] = semantic_key(i);
+  out.put_vector(keys);
   profile_.save_state(out);
 }
 
@@ -59,9 +63,17 @@ void Mapper::load_state(StateReader& in) {
     in.fail("the kept points hold " + std::to_string(semantic_points_.size()) + " points but " +
             std::to_string(keys.size()) + " voxel keys");
   }
-  FlatKeyIndex semantic_keys(keys.size());
-  for (const std::uint64_t key : keys) semantic_keys.find_or_insert(key);
-  if (semantic_keys.size() != keys.size()) in.fail("two kept points share a voxel key");
+  if (!keys.empty() && config_.semantic_points_voxel <= 0) {
+    in.fail("the state holds kept points but semantic_points_voxel keeps none");
+  }
+  FlatKeySet semantic_keys(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (!metric::within_map_limits(semantic_points_.x()[i], semantic_points_.y()[i], semantic_points_.z()[i])) {
+      in.fail("kept point " + std::to_string(i) + " lies beyond the map's limits");
+    }
+    if (keys[i] != semantic_key(i)) in.fail("kept point " + std::to_string(i) + " lies outside the voxel of its key");
+    if (!semantic_keys.insert(keys[i])) in.fail("two kept points share a voxel key");
+  }
   semantic_keys_ = std::move(semantic_keys);
   profile_.load_state(in);
   row_open_ = false;

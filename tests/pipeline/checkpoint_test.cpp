@@ -160,6 +160,33 @@ TEST_F(CheckpointRefusal, ADamagedOrTruncatedFile) {
   EXPECT_NE(e.find("cannot open"), std::string::npos) << e;
 }
 
+// Kept points whose voxel keys do not follow from their positions (a state
+// of another semantic_points_voxel handed to load_state directly) are refused.
+TEST_F(CheckpointRefusal, KeptPointsOfAnotherVoxelSize) {
+  Mapper mapper(config_for("labels"), sim::sensor_info(default_arena().sensor));
+  integrate_frames(mapper, 0, 16, 8);
+  ASSERT_GT(mapper.semantic_points().size(), 0u);
+  StateWriter out;
+  mapper.save_state(out);
+  const auto error_loading_into = [&out](double semantic_points_voxel) -> std::string {
+    MapperConfig config = config_for("labels");
+    config.semantic_points_voxel = semantic_points_voxel;
+    Mapper target(config, sim::sensor_info(default_arena().sensor));
+    StateReader in(out.bytes(), "state");
+    try {
+      target.load_state(in);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error_loading_into(config_for("labels").semantic_points_voxel), "");
+  std::string e = error_loading_into(0.1);
+  EXPECT_NE(e.find("outside the voxel of its key"), std::string::npos) << e;
+  e = error_loading_into(0);
+  EXPECT_NE(e.find("keeps none"), std::string::npos) << e;
+}
+
 // Past the hash (a stream handed to load_state directly), every truncation
 // is a clear error, never a crash or a runaway allocation.
 TEST_F(CheckpointRefusal, EveryTruncatedStateIsAnError) {
