@@ -354,5 +354,34 @@ TEST(OccupiedVoxelCache, RescanningTheChangedRegionMatchesAFullRead) {
   EXPECT_TRUE(cache.columns(map.resolution()).empty());
 }
 
+// The columns' extent follows the blocks' own: it grows with a far voxel
+// and shrinks again when the only voxel at an edge is seen free.
+TEST(OccupiedVoxelCache, ExtentGrowsAndShrinksWithTheEdgeBlocks) {
+  metric::MetricMap map;  // 0.05 m voxels
+  testing::set_voxel(map, {0.01, 0.01, 0.01}, true, ClassId::Terrain);
+  testing::set_voxel(map, {0.21, 0.11, 0.01}, true, ClassId::Terrain);
+  OccupiedVoxelCache cache;
+  cache.refresh(map, nullptr);
+  EXPECT_EQ(cache.columns(map.resolution()).width, 5);
+  EXPECT_EQ(cache.columns(map.resolution()).height, 3);
+  const Eigen::Vector3d far(3.01, -1.49, 0.51);
+  testing::set_voxel(map, far, true, ClassId::Wall);
+  Bounds changed;
+  changed.extend(far);
+  cache.refresh(map, &changed);
+  VoxelColumns columns = cache.columns(map.resolution());
+  EXPECT_TRUE(same_columns(columns, voxel_columns(map)));
+  EXPECT_EQ(columns.x0, 0);
+  EXPECT_EQ(columns.y0, -30);
+  EXPECT_EQ(columns.width, 61);
+  EXPECT_EQ(columns.height, 33);
+  testing::set_voxel(map, far, false, ClassId::Unknown);
+  cache.refresh(map, &changed);
+  columns = cache.columns(map.resolution());
+  EXPECT_TRUE(same_columns(columns, voxel_columns(map)));
+  EXPECT_EQ(columns.width, 5);
+  EXPECT_EQ(columns.height, 3);
+}
+
 }  // namespace
 }  // namespace sarmap::topo
