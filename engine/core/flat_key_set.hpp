@@ -49,14 +49,6 @@ class FlatKeySet {
   // Starts loading key's home slot into the cache (walk_keys_prefetched).
   void prefetch(std::uint64_t key) const { __builtin_prefetch(&slots_[mix_key(key) & mask_]); }
 
-  // Visits every key, in slot order.
-  template <class Visit>
-  void for_each(Visit&& visit) const {
-    for (const std::uint64_t key : slots_) {
-      if (key != kEmpty) visit(key);
-    }
-  }
-
  private:
   static std::size_t round_up(std::size_t n) {
     std::size_t p = 16;
