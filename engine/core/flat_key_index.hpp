@@ -14,6 +14,7 @@
 // indices is a FlatKeySet (flat_key_set.hpp), in less than half the bytes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -33,11 +34,19 @@ inline std::uint64_t mix_key(std::uint64_t x) {
   return x;
 }
 
+// Slots for a table to hold n: a power of two (so that masking a mixed key
+// finds its home slot), at least 16.
+inline std::size_t power_of_two_slots(std::size_t n) {
+  std::size_t p = 16;
+  while (p < n) p *= 2;
+  return p;
+}
+
 class FlatKeyIndex {
  public:
   static constexpr std::uint32_t kAbsent = 0xffffffffu;
 
-  explicit FlatKeyIndex(std::size_t initial_capacity = 1024) { rehash(round_up(initial_capacity * 2)); }
+  explicit FlatKeyIndex(std::size_t initial_capacity = 1024) { rehash(power_of_two_slots(initial_capacity * 2)); }
 
   std::size_t size() const { return keys_.size(); }
   // Bytes held: the slots and the key list, by capacity.
@@ -126,11 +135,6 @@ class FlatKeyIndex {
     std::uint32_t index = kAbsent;
   };
 
-  static std::size_t round_up(std::size_t n) {
-    std::size_t p = 16;
-    while (p < n) p *= 2;
-    return p;
-  }
   // The slot holding key, or kNoSlot.
   std::size_t slot_of(std::uint64_t key) const {
     std::size_t slot = mix_key(key) & mask_;

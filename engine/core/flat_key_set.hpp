@@ -20,7 +20,7 @@ class FlatKeySet {
   // No packed key has its top bit set, so this value marks an empty slot.
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
 
-  explicit FlatKeySet(std::size_t initial_capacity = 1024) { rehash(round_up(initial_capacity * 2)); }
+  explicit FlatKeySet(std::size_t initial_capacity = 1024) { rehash(power_of_two_slots(initial_capacity * 2)); }
 
   std::size_t size() const { return size_; }
   // Bytes held: the slots, by capacity.
@@ -50,11 +50,6 @@ class FlatKeySet {
   void prefetch(std::uint64_t key) const { __builtin_prefetch(&slots_[mix_key(key) & mask_]); }
 
  private:
-  static std::size_t round_up(std::size_t n) {
-    std::size_t p = 16;
-    while (p < n) p *= 2;
-    return p;
-  }
   void rehash(std::size_t capacity) {
     HugePageVector<std::uint64_t> old;
     old.swap(slots_);

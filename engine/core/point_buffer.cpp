@@ -7,44 +7,41 @@
 
 namespace sarmap {
 
-template <class Fn>
-void PointBuffer::for_each_array(Fn&& fn) {
-  fn(x_);
-  fn(y_);
-  fn(z_);
-  if (has_labels_) fn(labels_);
-  if (has_gt_labels_) fn(gt_labels_);
-  if (has_colors_) {
-    fn(red_);
-    fn(green_);
-    fn(blue_);
+template <class Self, class Fn>
+void PointBuffer::for_each_array(Self& self, Fn&& fn) {
+  fn(self.x_);
+  fn(self.y_);
+  fn(self.z_);
+  if (self.has_labels_) fn(self.labels_);
+  if (self.has_gt_labels_) fn(self.gt_labels_);
+  if (self.has_colors_) {
+    fn(self.red_);
+    fn(self.green_);
+    fn(self.blue_);
   }
-  if (has_intensity_) fn(intensity_);
-  if (has_normals_) {
-    fn(nx_);
-    fn(ny_);
-    fn(nz_);
+  if (self.has_intensity_) fn(self.intensity_);
+  if (self.has_normals_) {
+    fn(self.nx_);
+    fn(self.ny_);
+    fn(self.nz_);
   }
-  for (auto& s : scores_) fn(s);
+  for (auto& s : self.scores_) fn(s);
 }
 
 std::size_t PointBuffer::memory_bytes() const {
-  // for_each_array's arrays, the attributes not enabled included: they hold
-  // nothing unless a buffer once had them.
-  std::size_t bytes = capacity_bytes(x_) + capacity_bytes(y_) + capacity_bytes(z_) + capacity_bytes(labels_) +
-                      capacity_bytes(gt_labels_) + capacity_bytes(red_) + capacity_bytes(green_) +
-                      capacity_bytes(blue_) + capacity_bytes(intensity_) + capacity_bytes(nx_) +
-                      capacity_bytes(ny_) + capacity_bytes(nz_);
-  for (const auto& s : scores_) bytes += capacity_bytes(s);
+  // The enabled attributes' arrays: an attribute is never disabled, so the
+  // others have never held anything.
+  std::size_t bytes = 0;
+  for_each_array(*this, [&bytes](const auto& a) { bytes += capacity_bytes(a); });
   return bytes;
 }
 
 void PointBuffer::resize(std::size_t count) {
-  for_each_array([count](auto& a) { a.resize(count); });
+  for_each_array(*this, [count](auto& a) { a.resize(count); });
 }
 
 void PointBuffer::reserve(std::size_t count) {
-  for_each_array([count](auto& a) { a.reserve(count); });
+  for_each_array(*this, [count](auto& a) { a.reserve(count); });
 }
 
 void PointBuffer::push_back(float x, float y, float z) {
@@ -183,7 +180,7 @@ std::size_t PointBuffer::keep_where(Keeps keeps) {
   if (kept == n) return 0;
   std::vector<std::uint8_t> keep(n);
   for (std::size_t i = 0; i < n; ++i) keep[i] = keeps(i);
-  for_each_array([&keep, n](auto& a) {
+  for_each_array(*this, [&keep, n](auto& a) {
     std::size_t out = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (keep[i]) a[out++] = a[i];

@@ -127,8 +127,10 @@ class PointBuffer {
   std::vector<std::string> score_names_;
   std::vector<AlignedVector<float>> scores_;
 
-  template <class Fn>
-  void for_each_array(Fn&& fn);
+  // Calls fn on each enabled attribute's array of `self` (a PointBuffer,
+  // const or not): the one list of the arrays.
+  template <class Self, class Fn>
+  static void for_each_array(Self& self, Fn&& fn);
 };
 
 }  // namespace sarmap
