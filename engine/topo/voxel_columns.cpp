@@ -1,6 +1,7 @@
 #include "engine/topo/voxel_columns.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace sarmap::topo {
 namespace {
@@ -79,37 +80,163 @@ VoxelColumns voxel_columns(const metric::MetricMap& map) {
                    map.resolution());
 }
 
-void OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bounds* changed) {
-  std::erase_if(blocks_, [&map](const auto& entry) { return map.blocks().find(metric::unpack_block(entry.first)) == nullptr; });
+void ColumnRect::include(const ColumnRect& other) {
+  if (other.empty()) return;
+  if (empty()) {
+    *this = other;
+    return;
+  }
+  x0 = std::min(x0, other.x0);
+  x1 = std::max(x1, other.x1);
+  y0 = std::min(y0, other.y0);
+  y1 = std::max(y1, other.y1);
+}
+
+void OccupiedVoxelCache::cover(std::int32_t bx0, std::int32_t bx1, std::int32_t by0, std::int32_t by1) {
+  if (bwidth_ > 0) {
+    bx0 = std::min(bx0, bx0_);
+    by0 = std::min(by0, by0_);
+    bx1 = std::max(bx1, bx0_ + bwidth_ - 1);
+    by1 = std::max(by1, by0_ + bheight_ - 1);
+    if (bx0 == bx0_ && by0 == by0_ && bx1 - bx0 + 1 == bwidth_ && by1 - by0 + 1 == bheight_) return;
+  }
+  bx0_ = bx0;
+  by0_ = by0;
+  bwidth_ = bx1 - bx0 + 1;
+  bheight_ = by1 - by0 + 1;
+  slot_.assign(static_cast<std::size_t>(bwidth_) * static_cast<std::size_t>(bheight_), -1);
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    slot_[static_cast<std::size_t>(columns_[i].bx - bx0_) +
+          static_cast<std::size_t>(bwidth_) * static_cast<std::size_t>(columns_[i].by - by0_)] =
+        static_cast<std::int32_t>(i);
+  }
+}
+
+void OccupiedVoxelCache::read(const metric::MetricMap& map, BlockColumn& column) {
+  // Blocks bottom-up, and each block's voxels in index order (z slowest):
+  // every voxel column fills in ascending height.
+  std::sort(column.now.begin(), column.now.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Occupied> found;
+  for (const auto& [bz, block] : column.now) {
+    for_each_occupied(map, metric::BlockKey{column.bx, column.by, bz}, *block,
+                      [&found](const Occupied& o) { found.push_back(o); });
+  }
+  const auto local = [](const Occupied& o) { return (o.x & (metric::kBlockEdge - 1)) + metric::kBlockEdge * (o.y & (metric::kBlockEdge - 1)); };
+  column.start.fill(0);
+  column.extent = ColumnRect();
+  for (const Occupied& o : found) {
+    ++column.start[local(o) + 1];
+    column.extent.include({o.x, o.x, o.y, o.y});
+  }
+  for (int c = 1; c <= kLocalColumns; ++c) column.start[c] += column.start[c - 1];
+  std::array<std::uint32_t, kLocalColumns> fill;
+  std::copy(column.start.begin(), column.start.end() - 1, fill.begin());
+  column.z.resize(found.size());
+  column.label.resize(found.size());
+  for (const Occupied& o : found) {
+    const std::uint32_t at = fill[local(o)]++;
+    column.z[at] = o.z;
+    column.label[at] = o.label;
+  }
+  column.block_z.clear();
+  for (const auto& entry : column.now) column.block_z.push_back(entry.first);
+}
+
+ColumnRect OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bounds* changed) {
+  const auto& blocks = map.blocks();
+  if (!blocks.empty()) {
+    std::int32_t bx0 = std::numeric_limits<std::int32_t>::max(), by0 = bx0;
+    std::int32_t bx1 = std::numeric_limits<std::int32_t>::min(), by1 = bx1;
+    blocks.for_each_block([&](const metric::BlockKey& key, const Block&) {
+      bx0 = std::min(bx0, key.x);
+      bx1 = std::max(bx1, key.x);
+      by0 = std::min(by0, key.y);
+      by1 = std::max(by1, key.y);
+    });
+    cover(bx0, bx1, by0, by1);
+  }
   const double edge = map.resolution() * metric::kBlockEdge;
-  map.blocks().for_each_block([&](const metric::BlockKey& key, const metric::MetricMap::Blocks::Block& block) {
-    if (changed != nullptr) {
+  blocks.for_each_block([&](const metric::BlockKey& key, const Block& block) {
+    const std::size_t at = static_cast<std::size_t>(key.x - bx0_) +
+                           static_cast<std::size_t>(bwidth_) * static_cast<std::size_t>(key.y - by0_);
+    if (slot_[at] < 0) {
+      slot_[at] = static_cast<std::int32_t>(columns_.size());
+      columns_.emplace_back();
+      columns_.back().bx = key.x;
+      columns_.back().by = key.y;
+    }
+    BlockColumn& column = columns_[static_cast<std::size_t>(slot_[at])];
+    column.now.emplace_back(key.z, &block);
+    if (changed == nullptr) {
+      column.met = true;
+    } else if (!column.met) {
       const Eigen::Vector3d lo(key.x * edge, key.y * edge, key.z * edge);
       const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(edge);
-      if ((hi.array() < changed->min.array()).any() || (lo.array() > changed->max.array()).any()) return;
+      column.met = (hi.array() >= changed->min.array()).all() && (lo.array() <= changed->max.array()).all();
     }
-    std::vector<Voxel>& voxels = blocks_[metric::pack(key)];
-    voxels.clear();
-    for_each_occupied(map, key, block, [&](const Occupied& o) { voxels.push_back({o.x, o.y, o.z, o.label}); });
   });
+  ColumnRect reread;
+  for (BlockColumn& column : columns_) {
+    // Voxels change only where a change met a block; elsewhere blocks can only be forgotten.
+    const bool same_blocks = column.now.size() == column.block_z.size() &&
+                             std::all_of(column.now.begin(), column.now.end(), [&column](const auto& entry) {
+                               return std::binary_search(column.block_z.begin(), column.block_z.end(), entry.first);
+                             });
+    if (column.met || !same_blocks) {
+      read(map, column);
+      constexpr std::int32_t kEdge = metric::kBlockEdge;
+      reread.include({column.bx * kEdge, column.bx * kEdge + kEdge - 1, column.by * kEdge, column.by * kEdge + kEdge - 1});
+    }
+    column.now.clear();
+    column.met = false;
+  }
+  return reread;
 }
 
 VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
-  // Blocks in ascending height: blocks of one column of blocks hold disjoint
-  // heights, so each voxel column fills bottom-up and the output is the same
-  // whatever the hash order.
-  std::vector<const std::vector<Voxel>*> blocks;
+  VoxelColumns out;
+  out.resolution = resolution;
+  ColumnRect extent;
   std::size_t count = 0;
-  for (const auto& entry : blocks_) {
-    if (entry.second.empty()) continue;
-    blocks.push_back(&entry.second);
-    count += entry.second.size();
+  for (const BlockColumn& column : columns_) {
+    extent.include(column.extent);
+    count += column.z.size();
   }
-  std::sort(blocks.begin(), blocks.end(), [](const auto* a, const auto* b) { return a->front().z < b->front().z; });
-  auto for_each_voxel = [&blocks](auto&& fn) {
-    for (const std::vector<Voxel>* block : blocks) std::for_each(block->begin(), block->end(), fn);
+  if (count == 0) return out;
+  out.x0 = extent.x0;
+  out.y0 = extent.y0;
+  out.width = extent.x1 - extent.x0 + 1;
+  out.height = extent.y1 - extent.y0 + 1;
+  // Each voxel column's count at its place, then their running sum; the
+  // place of every column follows from its key, whatever the order of columns_.
+  out.start.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1, 0);
+  const auto global = [&out](const BlockColumn& column, int c) {
+    const std::int32_t x = column.bx * metric::kBlockEdge + c % metric::kBlockEdge;
+    const std::int32_t y = column.by * metric::kBlockEdge + c / metric::kBlockEdge;
+    return out.column(x - out.x0, y - out.y0);
   };
-  return by_column(for_each_voxel, count, resolution);
+  for (const BlockColumn& column : columns_) {
+    if (column.z.empty()) continue;
+    for (int c = 0; c < kLocalColumns; ++c) {
+      const std::uint32_t n = column.start[c + 1] - column.start[c];
+      if (n > 0) out.start[global(column, c) + 1] = n;
+    }
+  }
+  for (std::size_t c = 1; c < out.start.size(); ++c) out.start[c] += out.start[c - 1];
+  out.z.resize(count);
+  out.label.resize(count);
+  for (const BlockColumn& column : columns_) {
+    if (column.z.empty()) continue;
+    for (int c = 0; c < kLocalColumns; ++c) {
+      const std::uint32_t begin = column.start[c], end = column.start[c + 1];
+      if (begin == end) continue;
+      const std::uint32_t at = out.start[global(column, c)];
+      std::copy(column.z.begin() + begin, column.z.begin() + end, out.z.begin() + at);
+      std::copy(column.label.begin() + begin, column.label.begin() + end, out.label.begin() + at);
+    }
+  }
+  return out;
 }
 
 }  // namespace sarmap::topo

@@ -3,6 +3,7 @@
 // read, gathered once per update in linear time (a counting sort).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <span>
@@ -31,24 +32,53 @@ struct VoxelColumns {
 // Deterministic whatever the hash order of the map's blocks.
 VoxelColumns voxel_columns(const metric::MetricMap& map);
 
-// The map's occupied voxels block by block, kept between updates so that an
-// update rescans only the blocks a scan can have changed (a scan changes
-// voxels only between its origin and its points), not the whole map.
+// Voxel columns [x0, x1] x [y0, y1], inclusive, in voxel indices; empty when
+// x0 > x1.
+struct ColumnRect {
+  std::int32_t x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+  bool empty() const { return x0 > x1 || y0 > y1; }
+  void include(const ColumnRect& other);
+};
+
+// The map's occupied voxels by column, kept between updates in columns of
+// blocks (8 x 8 voxel columns each), so that an update re-reads only the
+// columns of blocks a scan can have changed (a scan changes voxels only
+// between its origin and its points), not the whole map.
 class OccupiedVoxelCache {
  public:
-  // Rescans the map's blocks that meet `changed` (every block when null) and
-  // forgets blocks the map no longer holds.
-  void refresh(const metric::MetricMap& map, const Bounds* changed);
+  // Re-reads the columns of blocks that hold a block meeting `changed`
+  // (every one when null) or that gained or lost a block, and returns the
+  // voxel columns they cover: no voxel outside it changed.
+  ColumnRect refresh(const metric::MetricMap& map, const Bounds* changed);
   // The cached voxels by column; the same as voxel_columns(map) after a
   // refresh that covered every change.
   VoxelColumns columns(double resolution) const;
 
  private:
-  struct Voxel {
-    std::int32_t x, y, z;
-    ClassId label;
+  using Block = metric::MetricMap::Blocks::Block;
+  static constexpr int kLocalColumns = metric::kBlockEdge * metric::kBlockEdge;
+
+  // One column of blocks: its 64 voxel columns as in VoxelColumns, local
+  // column lx + 8 ly holding entries [start[c], start[c + 1]).
+  struct BlockColumn {
+    std::int32_t bx = 0, by = 0;
+    std::vector<std::int32_t> block_z;  // the map's blocks here, ascending, as last read
+    std::array<std::uint32_t, kLocalColumns + 1> start{};
+    std::vector<std::int32_t> z;
+    std::vector<ClassId> label;
+    ColumnRect extent;  // of the occupied voxels
+    // Scratch of refresh: the map's blocks here now, and whether one meets the change.
+    std::vector<std::pair<std::int32_t, const Block*>> now;
+    bool met = false;
   };
-  std::unordered_map<std::uint64_t, std::vector<Voxel>> blocks_;
+  void read(const metric::MetricMap& map, BlockColumn& column);
+  // Makes the block index cover block columns [bx0, bx1] x [by0, by1].
+  void cover(std::int32_t bx0, std::int32_t bx1, std::int32_t by0, std::int32_t by1);
+
+  std::vector<BlockColumn> columns_;  // every column of blocks that ever held a block
+  // Dense over the block columns' extent: index into columns_, or -1.
+  std::vector<std::int32_t> slot_;
+  std::int32_t bx0_ = 0, by0_ = 0, bwidth_ = 0, bheight_ = 0;
 };
 
 }  // namespace sarmap::topo

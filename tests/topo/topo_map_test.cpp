@@ -346,11 +346,21 @@ TEST(OccupiedVoxelCache, RescanningTheChangedRegionMatchesAFullRead) {
   changed.extend({0.4, 0.4, 0});
   changed.extend({2.1, 0.9, 0.6});
   EXPECT_FALSE(same_columns(cache.columns(map.resolution()), voxel_columns(map)));
-  cache.refresh(map, &changed);
+  // The columns re-read are those of the blocks meeting the change (touching
+  // counts): whole columns of blocks, 8 x 8 voxels (0.4 m), around it.
+  const ColumnRect reread = cache.refresh(map, &changed);
   EXPECT_TRUE(same_columns(cache.columns(map.resolution()), voxel_columns(map)));
-  // Blocks the map forgets are forgotten.
+  EXPECT_EQ(reread.x0, 0);   // the block [0, 0.4] m touches x = 0.4
+  EXPECT_EQ(reread.x1, 47);  // the block [2.0, 2.4] m holds x = 2.1
+  EXPECT_EQ(reread.y0, 0);
+  EXPECT_EQ(reread.y1, 23);
+  // A change far from every block re-reads nothing.
+  Bounds elsewhere;
+  elsewhere.extend({50, 50, 50});
+  EXPECT_TRUE(cache.refresh(map, &elsewhere).empty());
+  // Blocks the map forgets are forgotten, wherever they are.
   map.blocks().clear();
-  cache.refresh(map, &changed);
+  EXPECT_FALSE(cache.refresh(map, &elsewhere).empty());
   EXPECT_TRUE(cache.columns(map.resolution()).empty());
 }
 
