@@ -36,9 +36,9 @@ TopoMap& TopoMap::operator=(TopoMap&&) noexcept = default;
 TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric::MetricMap& map,
                            const Bounds* changed) {
   const std::vector<const segments::Segment*> segments = segment_map.segments();
-  voxels_.refresh(map, changed);
+  const ColumnRect reread = voxels_.refresh(map, changed);
   const VoxelColumns columns = voxels_.columns(map.resolution());
-  grid_ = traversability_grid(columns, settings_);
+  update_traversability_grid(grid_, columns, settings_, reread);
   walls_ = std::make_unique<WallScene>(segments, &columns, settings_);
   last_ = TopoUpdate();
   last_.wall_boxes = walls_->boxes().size();

@@ -40,4 +40,12 @@ struct TraversabilityGrid {
 // at the origin.
 TraversabilityGrid traversability_grid(const VoxelColumns& columns, const TopoSettings& settings);
 
+// Brings a grid that traversability_grid() (or this) made with the same
+// settings up to date with columns that differ from its own only within
+// `changed`: the cells that can depend on those columns are computed again,
+// the rest kept, so the grid equals traversability_grid(columns, settings).
+// A grid of another extent is made whole again.
+void update_traversability_grid(TraversabilityGrid& grid, const VoxelColumns& columns, const TopoSettings& settings,
+                                const ColumnRect& changed);
+
 }  // namespace sarmap::topo

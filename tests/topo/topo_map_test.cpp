@@ -3,6 +3,7 @@
 // roadmap and tree, routes and their reasons, and the files.
 #include "engine/topo/topo_map.hpp"
 
+#include <cstring>
 #include <fstream>
 #include <set>
 
@@ -219,6 +220,45 @@ TEST(TopoMap, NodeIdsStayWhenTheMapGrows) {
     EXPECT_NEAR((now.position - old.position).head<2>().norm(), 0.0, 1e-12) << old.id;
   }
   for (std::size_t id = before.size(); id < t.nodes().size(); ++id) EXPECT_GT(t.nodes()[id].position.x(), 3.9);
+}
+
+// Updates that name where the map changed keep the grid equal to one made
+// from the whole map: a room's floor seen beyond x = 4 (the grid grows),
+// then a box on it.
+TEST(TopoMap, GridUpdatedWhereTheMapChangedEqualsAGridFromTheWholeMap) {
+  metric::MetricMap map = world_map();
+  const segments::SegmentMap segments = world_segments();
+  TopoMap t;
+  t.update(segments, map);
+  const auto expect_whole_grid = [&] {
+    const TraversabilityGrid whole = traversability_grid(voxel_columns(map), t.settings());
+    EXPECT_EQ(t.grid().grid.width(), whole.grid.width());
+    EXPECT_EQ(t.grid().grid.height(), whole.grid.height());
+    EXPECT_TRUE(std::equal(whole.grid.cells().begin(), whole.grid.cells().end(), t.grid().grid.cells().begin()));
+    EXPECT_EQ(0, std::memcmp(whole.ground.data(), t.grid().ground.data(), whole.ground.size() * sizeof(float)));
+    EXPECT_EQ(whole.near_drop, t.grid().near_drop);
+  };
+  Bounds changed;
+  for (int i = 80; i < 110; ++i) {
+    for (int j = 0; j < 60; ++j) {
+      const Eigen::Vector3d floor((i + 0.5) * 0.05, (j + 0.5) * 0.05, -0.025);
+      testing::set_voxel(map, floor, true, ClassId::Terrain);
+      changed.extend(floor);
+    }
+  }
+  t.update(segments, map, &changed);
+  expect_whole_grid();
+  Bounds box;
+  for (double x = 4.6; x < 4.9; x += 0.05) {
+    for (double z = 0.025; z < 0.3; z += 0.05) {
+      testing::set_voxel(map, {x, 1.52, z}, true, ClassId::Other);
+      box.extend({x, 1.52, z});
+    }
+  }
+  const std::vector<CellState> before(t.grid().grid.cells().begin(), t.grid().grid.cells().end());
+  t.update(segments, map, &box);
+  expect_whole_grid();
+  EXPECT_FALSE(std::equal(before.begin(), before.end(), t.grid().grid.cells().begin()));  // the box is in
 }
 
 TEST(GraphFiles, JsonRoundTripAndTheOtherFormats) {
