@@ -39,6 +39,7 @@ GroundProfile ground_profile(const TraversabilityGrid& t, const Eigen::Vector3d&
   std::array<std::size_t, kClassCount> votes{};
   // Known samples: distance along the drive and ground height.
   std::vector<std::pair<double, double>> known;
+  known.reserve(steps + 1);
   bool unknown = false, drop = false, steep = false;
   for (std::size_t k = 0; k <= steps; ++k) {
     const double f = steps == 0 ? 0.0 : static_cast<double>(k) / static_cast<double>(steps);

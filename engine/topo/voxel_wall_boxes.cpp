@@ -1,7 +1,6 @@
 #include "engine/topo/voxel_wall_boxes.hpp"
 
-#include <unordered_map>
-
+#include "engine/core/flat_key_map.hpp"
 #include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::topo {
@@ -20,17 +19,19 @@ std::vector<VoxelBox> merge_along(std::span<const VoxelBox> boxes, std::int32_t 
                                   std::int32_t VoxelBox::*hi, std::int32_t VoxelBox::*other_lo,
                                   std::int32_t VoxelBox::*other_hi) {
   std::vector<VoxelBox> merged;
-  std::unordered_map<std::uint64_t, std::uint32_t, metric::PackedKeyHash> open;
+  // Each key's latest box, by its index in `merged`.
+  FlatKeyMap<std::uint32_t> open(boxes.size() + 16);
   for (const VoxelBox& box : boxes) {
-    const auto [it, added] =
+    const auto [at, added] =
         open.try_emplace(metric::pack(box.*other_lo, box.z0, box.z1), static_cast<std::uint32_t>(merged.size()));
+    std::uint32_t& latest = open.values()[at];
     if (!added) {
-      VoxelBox& last = merged[it->second];
+      VoxelBox& last = merged[latest];
       if (last.*hi + 1 == box.*lo && last.*other_hi == box.*other_hi) {
         last.*hi = box.*hi;
         continue;
       }
-      it->second = static_cast<std::uint32_t>(merged.size());
+      latest = static_cast<std::uint32_t>(merged.size());
     }
     merged.push_back(box);
   }
