@@ -8,9 +8,9 @@
 
 namespace sarmap::topo {
 
-PlanningGrid::PlanningGrid(int width, int height, double resolution, const Eigen::Vector2d& origin,
-                           CellState fill)
-    : width_(width), height_(height), resolution_(resolution), origin_(origin) {
+namespace {
+
+void check_shape(int width, int height, double resolution, const Eigen::Vector2d& origin) {
   if (width <= 0 || height <= 0 ||
       static_cast<std::int64_t>(width) * height > std::numeric_limits<std::int32_t>::max()) {
     throw Error(ErrorCode::InvalidArgument, "topo: a planning grid of " + std::to_string(width) + " x " +
@@ -24,7 +24,29 @@ PlanningGrid::PlanningGrid(int width, int height, double resolution, const Eigen
   }
   if (!origin.allFinite())
     throw Error(ErrorCode::InvalidArgument, "topo: the planning grid's origin is not finite");
+}
+
+}  // namespace
+
+PlanningGrid::PlanningGrid(int width, int height, double resolution, const Eigen::Vector2d& origin,
+                           CellState fill)
+    : width_(width), height_(height), resolution_(resolution), origin_(origin) {
+  check_shape(width, height, resolution, origin);
   cells_.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), fill);
+}
+
+void PlanningGrid::reset(int width, int height, double resolution, const Eigen::Vector2d& origin, CellState fill) {
+  check_shape(width, height, resolution, origin);
+  width_ = width;
+  height_ = height;
+  resolution_ = resolution;
+  origin_ = origin;
+  const std::size_t cells = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (cells_.capacity() < cells) {
+    cells_.clear();
+    cells_.reserve(cells + cells / 2);
+  }
+  cells_.assign(cells, fill);
 }
 
 GridCell PlanningGrid::cell_at(const Eigen::Vector2d& world) const {

@@ -29,6 +29,10 @@ class PlanningGrid {
   // (resolution > 0).
   PlanningGrid(int width, int height, double resolution, const Eigen::Vector2d& origin,
                CellState fill = CellState::Unknown);
+  // The same on this grid's storage, reallocated (with half again as much
+  // room) only when it is too small: for a grid that grows with a map.
+  void reset(int width, int height, double resolution, const Eigen::Vector2d& origin,
+             CellState fill = CellState::Unknown);
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -37,9 +37,9 @@ TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric
                            const Bounds* changed) {
   const std::vector<const segments::Segment*> segments = segment_map.segments();
   const ColumnRect reread = voxels_.refresh(map, changed);
-  const VoxelColumns columns = voxels_.columns(map.resolution());
-  update_traversability_grid(grid_, columns, settings_, reread);
-  walls_ = std::make_unique<WallScene>(segments, &columns, settings_);
+  voxels_.columns(map.resolution(), columns_);
+  update_traversability_grid(grid_, columns_, settings_, reread, grid_scratch_);
+  walls_ = std::make_unique<WallScene>(segments, &columns_, settings_);
   last_ = TopoUpdate();
   last_.wall_boxes = walls_->boxes().size();
 

@@ -104,6 +104,8 @@ class TopoMap {
   std::vector<TopoEdge> edges_;
   TraversabilityGrid grid_;
   OccupiedVoxelCache voxels_;
+  VoxelColumns columns_;  // the last update's, kept for their arrays
+  TraversabilityScratch grid_scratch_;
   std::unique_ptr<WallScene> walls_;
   TopoUpdate last_;
 };

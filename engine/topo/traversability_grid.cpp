@@ -32,20 +32,33 @@ int reach_of(const TopoSettings& settings, double res) {
   return static_cast<int>(std::floor(settings.robot_radius / res + 1e-9));
 }
 
+// Sized to n and filled, reallocated (with half again as much room) only when n outgrows it.
+template <class T>
+void assign_with_headroom(std::vector<T>& v, std::size_t n, T value) {
+  if (v.capacity() < n) {
+    v.clear();
+    v.reserve(n + n / 2);
+  }
+  v.assign(n, value);
+}
+
 // Computes the cells of `target` of a grid with the columns' extent from the
 // columns alone. A cell's value depends on the columns within reach + 2 of
 // it (a gap's two neighbours, a rim's neighbours, the robot's radius), so
 // only those are read, and every cell outside `target` is left as it is.
 void compute_cells(TraversabilityGrid& out, const VoxelColumns& columns, const TopoSettings& settings,
-                   const CellRect& target) {
+                   const CellRect& target, TraversabilityScratch& scratch) {
   const double res = columns.resolution;
   const int reach = reach_of(settings, res);
   const int width = out.grid.width(), height = out.grid.height();
   const CellRect read = grown(target, reach + 2, out.grid);
   const std::size_t cells = static_cast<std::size_t>(read.width()) * static_cast<std::size_t>(read.y1 - read.y0 + 1);
-  std::vector<CellState> seen(cells, CellState::Unknown);
-  std::vector<float> ground(cells, std::nanf(""));
-  std::vector<ClassId> ground_class(cells, ClassId::Unknown);
+  std::vector<CellState>& seen = scratch.seen;
+  std::vector<float>& ground = scratch.ground;
+  std::vector<ClassId>& ground_class = scratch.ground_class;
+  assign_with_headroom(seen, cells, CellState::Unknown);
+  assign_with_headroom(ground, cells, std::nanf(""));
+  assign_with_headroom(ground_class, cells, ClassId::Unknown);
 
   // The robot's height in voxels: an occupied voxel closer above a surface
   // than this leaves no room to drive there.
@@ -73,7 +86,9 @@ void compute_cells(TraversabilityGrid& out, const VoxelColumns& columns, const T
   // on two opposite sides at heights within a step, is that ground (a
   // sensor's pixel grid leaves such one-cell gaps, lines of them across a
   // slope). Read from the cells as they were, so gaps never grow.
-  std::vector<CellState> state = seen;
+  std::vector<CellState>& state = scratch.state;
+  assign_with_headroom(state, cells, CellState::Unknown);
+  std::copy(seen.begin(), seen.end(), state.begin());
   const CellRect filled = grown(target, reach + 1, out.grid);
   for (int y = std::max(filled.y0, 1); y <= std::min(filled.y1, height - 2); ++y) {
     for (int x = std::max(filled.x0, 1); x <= std::min(filled.x1, width - 2); ++x) {
@@ -142,26 +157,25 @@ bool same_extent(const TraversabilityGrid& grid, const VoxelColumns& columns) {
          grid.grid.origin() == Eigen::Vector2d(columns.x0 * res, columns.y0 * res);
 }
 
-// A grid of the columns' extent, every cell unknown with no ground.
-TraversabilityGrid blank_grid(const VoxelColumns& columns) {
+// `out` laid on the columns' extent, every cell unknown with no ground.
+void make_blank(TraversabilityGrid& out, const VoxelColumns& columns) {
   const double res = columns.resolution;
-  TraversabilityGrid out;
-  out.grid = PlanningGrid(columns.width, columns.height, res, Eigen::Vector2d(columns.x0 * res, columns.y0 * res),
-                          CellState::Unknown);
-  out.ground.assign(out.grid.cells().size(), std::nanf(""));
-  out.ground_class.assign(out.ground.size(), ClassId::Unknown);
-  out.near_drop.assign(out.ground.size(), 0);
-  return out;
+  out.grid.reset(columns.width, columns.height, res, Eigen::Vector2d(columns.x0 * res, columns.y0 * res),
+                 CellState::Unknown);
+  const std::size_t cells = out.grid.cells().size();
+  assign_with_headroom(out.ground, cells, std::nanf(""));
+  assign_with_headroom(out.ground_class, cells, ClassId::Unknown);
+  assign_with_headroom(out.near_drop, cells, std::uint8_t{0});
 }
 
-// The old grid's cells in the columns' extent: the cells farther than
+// Lays the old grid's cells into `out`, on the columns' extent: the cells farther than
 // `margin` from both grids' edges keep their values (their columns lie inside
 // both extents, and an edge changes what a cell near it can become: a gap on
 // the edge is never filled, a neighbour outside never a rim's), the others
 // are computed. Columns that changed are the caller's to compute.
-TraversabilityGrid relaid(const TraversabilityGrid& old, const VoxelColumns& columns, const TopoSettings& settings,
-                          int margin) {
-  TraversabilityGrid out = blank_grid(columns);
+void relay(const TraversabilityGrid& old, TraversabilityGrid& out, const VoxelColumns& columns,
+           const TopoSettings& settings, int margin, TraversabilityScratch& scratch) {
+  make_blank(out, columns);
   const double res = columns.resolution;
   const auto old_x0 = static_cast<std::int32_t>(std::lround(old.grid.origin().x() / res));
   const auto old_y0 = static_cast<std::int32_t>(std::lround(old.grid.origin().y() / res));
@@ -171,8 +185,8 @@ TraversabilityGrid relaid(const TraversabilityGrid& old, const VoxelColumns& col
                       std::max(dy, 0) + margin, std::min(dy + old.grid.height(), columns.height) - 1 - margin};
   const CellRect all{0, columns.width - 1, 0, columns.height - 1};
   if (keep.empty()) {
-    compute_cells(out, columns, settings, all);
-    return out;
+    compute_cells(out, columns, settings, all, scratch);
+    return;
   }
   for (int y = keep.y0; y <= keep.y1; ++y) {
     const std::size_t from = old.grid.index_of({keep.x0 - dx, y - dy}), to = out.grid.index_of({keep.x0, y});
@@ -184,9 +198,8 @@ TraversabilityGrid relaid(const TraversabilityGrid& old, const VoxelColumns& col
   }
   for (const CellRect& strip : {CellRect{all.x0, all.x1, all.y0, keep.y0 - 1}, CellRect{all.x0, all.x1, keep.y1 + 1, all.y1},
                                 CellRect{all.x0, keep.x0 - 1, keep.y0, keep.y1}, CellRect{keep.x1 + 1, all.x1, keep.y0, keep.y1}}) {
-    if (!strip.empty()) compute_cells(out, columns, settings, strip);
+    if (!strip.empty()) compute_cells(out, columns, settings, strip, scratch);
   }
-  return out;
 }
 
 }  // namespace
@@ -201,24 +214,29 @@ TraversabilityGrid traversability_grid(const VoxelColumns& columns, const TopoSe
     out.near_drop.assign(1, 0);
     return out;
   }
-  TraversabilityGrid out = blank_grid(columns);
-  compute_cells(out, columns, settings, {0, columns.width - 1, 0, columns.height - 1});
+  TraversabilityGrid out;
+  make_blank(out, columns);
+  TraversabilityScratch scratch;
+  compute_cells(out, columns, settings, {0, columns.width - 1, 0, columns.height - 1}, scratch);
   return out;
 }
 
 void update_traversability_grid(TraversabilityGrid& grid, const VoxelColumns& columns, const TopoSettings& settings,
-                                const ColumnRect& changed) {
+                                const ColumnRect& changed, TraversabilityScratch& scratch) {
   if (columns.empty() || grid.ground.empty() || grid.grid.resolution() != columns.resolution) {
     grid = traversability_grid(columns, settings);
     return;
   }
   const int margin = reach_of(settings, columns.resolution) + 2;
-  if (!same_extent(grid, columns)) grid = relaid(grid, columns, settings, margin);
+  if (!same_extent(grid, columns)) {
+    relay(grid, scratch.spare, columns, settings, margin, scratch);
+    std::swap(grid, scratch.spare);
+  }
   if (changed.empty()) return;
   const CellRect columns_changed{changed.x0 - columns.x0, changed.x1 - columns.x0, changed.y0 - columns.y0,
                                  changed.y1 - columns.y0};
   const CellRect target = grown(columns_changed, margin, grid.grid);
-  if (!target.empty()) compute_cells(grid, columns, settings, target);
+  if (!target.empty()) compute_cells(grid, columns, settings, target, scratch);
 }
 
 }  // namespace sarmap::topo

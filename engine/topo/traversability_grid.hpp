@@ -40,12 +40,22 @@ struct TraversabilityGrid {
 // at the origin.
 TraversabilityGrid traversability_grid(const VoxelColumns& columns, const TopoSettings& settings);
 
+// The arrays update_traversability_grid() reuses from one call to the next:
+// the grid grows with the map, and arrays made new at every update leave the
+// allocator holes a little too small for the next one.
+struct TraversabilityScratch {
+  TraversabilityGrid spare;  // the grid of a new extent is laid out here, then swapped in
+  std::vector<CellState> seen, state;
+  std::vector<float> ground;
+  std::vector<ClassId> ground_class;
+};
+
 // Brings a grid that traversability_grid() (or this) made with the same
 // settings up to date with columns that differ from its own only within
 // `changed`: the cells that can depend on those columns are computed again,
 // the rest kept, so the grid equals traversability_grid(columns, settings).
-// A grid of another extent is made whole again.
+// A grid of another extent is laid out on the columns' extent.
 void update_traversability_grid(TraversabilityGrid& grid, const VoxelColumns& columns, const TopoSettings& settings,
-                                const ColumnRect& changed);
+                                const ColumnRect& changed, TraversabilityScratch& scratch);
 
 }  // namespace sarmap::topo

@@ -196,21 +196,46 @@ ColumnRect OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bound
 
 VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
   VoxelColumns out;
+  columns(resolution, out);
+  return out;
+}
+
+namespace {
+
+// Sized to n, reallocated (with half again as much room) only when n outgrows it.
+template <class T>
+void resize_with_headroom(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() < n) {
+    v.clear();
+    v.reserve(n + n / 2);
+  }
+  v.resize(n);
+}
+
+}  // namespace
+
+void OccupiedVoxelCache::columns(double resolution, VoxelColumns& out) const {
   out.resolution = resolution;
+  out.x0 = out.y0 = 0;
+  out.width = out.height = 0;
+  out.start.clear();
+  out.z.clear();
+  out.label.clear();
   ColumnRect extent;
   std::size_t count = 0;
   for (const BlockColumn& column : columns_) {
     extent.include(column.extent);
     count += column.z.size();
   }
-  if (count == 0) return out;
+  if (count == 0) return;
   out.x0 = extent.x0;
   out.y0 = extent.y0;
   out.width = extent.x1 - extent.x0 + 1;
   out.height = extent.y1 - extent.y0 + 1;
   // Each voxel column's count at its place, then their running sum; the
   // place of every column follows from its key, whatever the order of columns_.
-  out.start.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1, 0);
+  resize_with_headroom(out.start, static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1);
+  std::fill(out.start.begin(), out.start.end(), 0);
   const auto global = [&out](const BlockColumn& column, int c) {
     const std::int32_t x = column.bx * metric::kBlockEdge + c % metric::kBlockEdge;
     const std::int32_t y = column.by * metric::kBlockEdge + c / metric::kBlockEdge;
@@ -224,8 +249,8 @@ VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
     }
   }
   for (std::size_t c = 1; c < out.start.size(); ++c) out.start[c] += out.start[c - 1];
-  out.z.resize(count);
-  out.label.resize(count);
+  resize_with_headroom(out.z, count);
+  resize_with_headroom(out.label, count);
   for (const BlockColumn& column : columns_) {
     if (column.z.empty()) continue;
     for (int c = 0; c < kLocalColumns; ++c) {
@@ -236,7 +261,6 @@ VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
       std::copy(column.label.begin() + begin, column.label.begin() + end, out.label.begin() + at);
     }
   }
-  return out;
 }
 
 }  // namespace sarmap::topo

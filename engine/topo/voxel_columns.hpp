@@ -53,6 +53,10 @@ class OccupiedVoxelCache {
   // The cached voxels by column; the same as voxel_columns(map) after a
   // refresh that covered every change.
   VoxelColumns columns(double resolution) const;
+  // The same into `out`, reusing its arrays (grown with headroom): the
+  // arrays grow with the map, and new ones at every update would leave the
+  // allocator holes a little too small for the next.
+  void columns(double resolution, VoxelColumns& out) const;
 
  private:
   using Block = metric::MetricMap::Blocks::Block;

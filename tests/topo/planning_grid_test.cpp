@@ -1,9 +1,10 @@
 // PlanningGrid: world <-> cell conversion at the cell edges, far outside and
-// with a negative origin; the constructor's checks.
+// with a negative origin; the constructor's checks; reset.
 #include "engine/topo/planning_grid.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -49,6 +50,27 @@ TEST(PlanningGrid, StoresRowMajorFromTheLowestRow) {
   EXPECT_EQ(grid.cells()[5], CellState::Occupied);
   EXPECT_EQ(grid.cells()[3], CellState::Unknown);
   EXPECT_EQ(grid.at({1, 0}), CellState::Free);
+}
+
+// A reset grid is the grid constructed with the same arguments; a smaller
+// one keeps the storage, and bad shapes are refused as by the constructor.
+TEST(PlanningGrid, ResetIsANewGridOnTheSameStorage) {
+  PlanningGrid grid(4, 3, 0.1, Eigen::Vector2d(1.0, 2.0), CellState::Free);
+  grid.reset(6, 5, 0.05, Eigen::Vector2d(-1.0, 0.5), CellState::Occupied);
+  const PlanningGrid fresh(6, 5, 0.05, Eigen::Vector2d(-1.0, 0.5), CellState::Occupied);
+  EXPECT_EQ(grid.width(), 6);
+  EXPECT_EQ(grid.height(), 5);
+  EXPECT_EQ(grid.resolution(), 0.05);
+  EXPECT_EQ(grid.origin(), fresh.origin());
+  EXPECT_TRUE(std::equal(grid.cells().begin(), grid.cells().end(), fresh.cells().begin(), fresh.cells().end()));
+  EXPECT_EQ(grid.cell_at({-0.97, 0.52}), (GridCell{0, 0}));
+  const CellState* storage = grid.cells().data();
+  grid.reset(2, 2, 0.05, Eigen::Vector2d::Zero());
+  EXPECT_EQ(grid.cells().data(), storage);
+  EXPECT_EQ(grid.cells().size(), 4u);
+  EXPECT_EQ(grid.at({1, 1}), CellState::Unknown);
+  EXPECT_THROW(grid.reset(0, 2, 0.05, Eigen::Vector2d::Zero()), Error);
+  EXPECT_THROW(grid.reset(2, 2, 0.05, Eigen::Vector2d(std::nan(""), 0.0)), Error);
 }
 
 TEST(PlanningGrid, RefusesEmptyOrUnusableGrids) {

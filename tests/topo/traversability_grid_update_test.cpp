@@ -98,6 +98,7 @@ TEST(TraversabilityGridUpdate, EqualsAGridMadeFromScratchAfterEveryChange) {
     VoxelColumns columns = columns_of(world);
     columns.resolution = 0.05;
     TraversabilityGrid grid = traversability_grid(columns, settings);
+    TraversabilityScratch scratch;
     std::size_t kept_cells = 0;
     for (int step = 0; step < 40; ++step) {
       const auto at = [&rng](std::int32_t lo, std::int32_t hi) {
@@ -111,12 +112,12 @@ TEST(TraversabilityGridUpdate, EqualsAGridMadeFromScratchAfterEveryChange) {
         std::erase_if(world, [edge](const auto& entry) { return entry.first.first <= edge + 2; });
         columns = columns_of(world);
         columns.resolution = 0.05;
-        update_traversability_grid(grid, columns, settings, {edge, edge + 2, rect.y0 - 1000, rect.y1 + 1000});
+        update_traversability_grid(grid, columns, settings, {edge, edge + 2, rect.y0 - 1000, rect.y1 + 1000}, scratch);
       } else {
         paint(world, rect, rng);
         columns = columns_of(world);
         columns.resolution = 0.05;
-        update_traversability_grid(grid, columns, settings, rect);
+        update_traversability_grid(grid, columns, settings, rect, scratch);
       }
       const TraversabilityGrid whole = traversability_grid(columns, settings);
       expect_same_grid(grid, whole, step);
@@ -139,6 +140,7 @@ TEST(TraversabilityGridUpdate, LeavesCellsFarFromTheChangeAsTheyWere) {
   columns.resolution = 0.05;
   TraversabilityGrid grid = traversability_grid(columns, settings);
   const TraversabilityGrid before = grid;
+  TraversabilityScratch scratch;
   // A wall at (10, 10) and one at (50, 50), but only the first is named as changed.
   for (const auto& [x, y] : {std::pair{10, 10}, std::pair{50, 50}}) {
     std::vector<std::pair<std::int32_t, ClassId>> wall;
@@ -147,7 +149,7 @@ TEST(TraversabilityGridUpdate, LeavesCellsFarFromTheChangeAsTheyWere) {
   }
   columns = columns_of(world);
   columns.resolution = 0.05;
-  update_traversability_grid(grid, columns, settings, {10, 10, 10, 10});
+  update_traversability_grid(grid, columns, settings, {10, 10, 10, 10}, scratch);
   EXPECT_EQ(grid.grid.at({10, 10}), CellState::Occupied);
   EXPECT_EQ(grid.grid.at({13, 10}), CellState::Occupied);  // within the robot's radius
   EXPECT_EQ(grid.grid.at({13, 13}), CellState::Free);        // beyond it
@@ -173,11 +175,12 @@ TEST(TraversabilityGridUpdate, AGapFilledByTheChangeMakesARimTwoCellsAway) {
   VoxelColumns columns = columns_of(world);
   columns.resolution = 0.02;
   TraversabilityGrid grid = traversability_grid(columns, settings);
+  TraversabilityScratch scratch;
   EXPECT_EQ(grid.grid.at({39, 21}), CellState::Free);
   world[{27, 20}] = {{7, ClassId::Terrain}};
   columns = columns_of(world);
   columns.resolution = 0.02;
-  update_traversability_grid(grid, columns, settings, {27, 27, 20, 20});
+  update_traversability_grid(grid, columns, settings, {27, 27, 20, 20}, scratch);
   const TraversabilityGrid whole = traversability_grid(columns, settings);
   EXPECT_EQ(whole.grid.at({39, 21}), CellState::Occupied);
   expect_same_grid(grid, whole, 0);
