@@ -5,6 +5,7 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/vector_headroom.hpp"
 
 namespace sarmap::topo {
 
@@ -41,12 +42,7 @@ void PlanningGrid::reset(int width, int height, double resolution, const Eigen::
   height_ = height;
   resolution_ = resolution;
   origin_ = origin;
-  const std::size_t cells = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  if (cells_.capacity() < cells) {
-    cells_.clear();
-    cells_.reserve(cells + cells / 2);
-  }
-  cells_.assign(cells, fill);
+  assign_with_headroom(cells_, static_cast<std::size_t>(width) * static_cast<std::size_t>(height), fill);
 }
 
 GridCell PlanningGrid::cell_at(const Eigen::Vector2d& world) const {

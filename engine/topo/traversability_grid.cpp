@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "engine/core/vector_headroom.hpp"
+
 namespace sarmap::topo {
 namespace {
 
@@ -30,16 +32,6 @@ CellRect grown(const CellRect& r, int by, const PlanningGrid& grid) {
 
 int reach_of(const TopoSettings& settings, double res) {
   return static_cast<int>(std::floor(settings.robot_radius / res + 1e-9));
-}
-
-// Sized to n and filled, reallocated (with half again as much room) only when n outgrows it.
-template <class T>
-void assign_with_headroom(std::vector<T>& v, std::size_t n, T value) {
-  if (v.capacity() < n) {
-    v.clear();
-    v.reserve(n + n / 2);
-  }
-  v.assign(n, value);
 }
 
 // Computes the cells of `target` of a grid with the columns' extent from the

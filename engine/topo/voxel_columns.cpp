@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "engine/core/vector_headroom.hpp"
+
 namespace sarmap::topo {
 namespace {
 
@@ -200,20 +202,6 @@ VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
   return out;
 }
 
-namespace {
-
-// Sized to n, reallocated (with half again as much room) only when n outgrows it.
-template <class T>
-void resize_with_headroom(std::vector<T>& v, std::size_t n) {
-  if (v.capacity() < n) {
-    v.clear();
-    v.reserve(n + n / 2);
-  }
-  v.resize(n);
-}
-
-}  // namespace
-
 void OccupiedVoxelCache::columns(double resolution, VoxelColumns& out) const {
   out.resolution = resolution;
   out.x0 = out.y0 = 0;
@@ -234,8 +222,8 @@ void OccupiedVoxelCache::columns(double resolution, VoxelColumns& out) const {
   out.height = extent.y1 - extent.y0 + 1;
   // Each voxel column's count at its place, then their running sum; the
   // place of every column follows from its key, whatever the order of columns_.
-  resize_with_headroom(out.start, static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1);
-  std::fill(out.start.begin(), out.start.end(), 0);
+  assign_with_headroom(out.start, static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height) + 1,
+                       std::uint32_t{0});
   const auto global = [&out](const BlockColumn& column, int c) {
     const std::int32_t x = column.bx * metric::kBlockEdge + c % metric::kBlockEdge;
     const std::int32_t y = column.by * metric::kBlockEdge + c / metric::kBlockEdge;
@@ -249,8 +237,8 @@ void OccupiedVoxelCache::columns(double resolution, VoxelColumns& out) const {
     }
   }
   for (std::size_t c = 1; c < out.start.size(); ++c) out.start[c] += out.start[c - 1];
-  resize_with_headroom(out.z, count);
-  resize_with_headroom(out.label, count);
+  assign_with_headroom(out.z, count, std::int32_t{0});
+  assign_with_headroom(out.label, count, ClassId::Unknown);
   for (const BlockColumn& column : columns_) {
     if (column.z.empty()) continue;
     for (int c = 0; c < kLocalColumns; ++c) {
