@@ -17,10 +17,27 @@
 namespace sarmap::geometry {
 
 struct TriangleScene::Impl {
+  // One mesh's Embree geometry and the buffers behind it, kept between
+  // rebuilds; the buffers hold some room beyond their items.
+  struct MeshGeometry {
+    RTCGeometry geometry = nullptr;
+    unsigned id = 0;
+    bool enabled = false;
+    RTCBuffer vertices = nullptr, indices = nullptr;
+    std::size_t vertex_capacity = 0, triangle_capacity = 0;
+  };
+
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  RTCBuildQuality quality = RTC_BUILD_QUALITY_HIGH;
+  std::vector<MeshGeometry> meshes;  // by mesh index
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
+    for (MeshGeometry& m : meshes) {
+      if (m.geometry) rtcReleaseGeometry(m.geometry);
+      if (m.vertices) rtcReleaseBuffer(m.vertices);
+      if (m.indices) rtcReleaseBuffer(m.indices);
+    }
     if (device) rtcReleaseDevice(device);
   }
 };
@@ -134,49 +151,88 @@ RTCDevice shared_device() {
 // enough that 1k edges still spread over both cores. A multiple of 16.
 constexpr std::size_t kSegmentsPerTask = 256;
 
+// The data of `buffer`, made (or made anew, with half again as much room)
+// when it holds fewer than `items` of `item_bytes`. Embree reads a buffer's
+// last item with a 16-byte load, hence the padding.
+void* buffer_for(RTCDevice device, RTCBuffer& buffer, std::size_t& capacity, std::size_t items,
+                 std::size_t item_bytes) {
+  if (capacity < items) {
+    if (buffer) rtcReleaseBuffer(buffer);
+    capacity = items + items / 2;
+    buffer = rtcNewBuffer(device, capacity * item_bytes + 16);
+    if (buffer == nullptr) {
+      capacity = 0;
+      check_device(device, "allocating geometry buffers");
+      throw Error(ErrorCode::InvalidData, "Embree failed while allocating geometry buffers");
+    }
+  }
+  return rtcGetBufferData(buffer);
+}
+
 }  // namespace
 
 TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality)
     : impl_(std::make_unique<Impl>()) {
   impl_->device = shared_device();
+  impl_->scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  impl_->quality = embree_quality(quality);
+  rtcSetSceneBuildQuality(impl_->scene, impl_->quality);
+  rebuild(meshes);
+}
+
+void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
+  for (const ClassedMesh& m : meshes) {
+    if (!m.indices.empty()) validate_mesh(m);
+  }
   // Embree keeps one pending error per thread and device: one this thread
   // left from an earlier call must not be taken for this scene's.
   rtcGetDeviceError(impl_->device);
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(impl_->scene, embree_quality(quality));
-  for (std::size_t mesh_index = 0; mesh_index < meshes.size(); ++mesh_index) {
-    const ClassedMesh& m = meshes[mesh_index];
-    if (m.indices.empty()) continue;
-    validate_mesh(m);
-    RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree builds with the geometry's quality too (Medium unless told), so
-    // a Low scene would otherwise still pay for a Medium build.
-    rtcSetGeometryBuildQuality(g, embree_quality(quality));
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), m.vertices.size()));
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), m.triangle_count()));
-    if (v == nullptr || idx == nullptr) {
-      rtcReleaseGeometry(g);
-      check_device(impl_->device, "allocating geometry buffers");
-      throw Error(ErrorCode::InvalidData, "Embree failed while allocating geometry buffers");
+  if (impl_->meshes.size() < meshes.size()) impl_->meshes.resize(meshes.size());
+  for (std::size_t mesh_index = 0; mesh_index < impl_->meshes.size(); ++mesh_index) {
+    Impl::MeshGeometry& slot = impl_->meshes[mesh_index];
+    if (mesh_index >= meshes.size() || meshes[mesh_index].indices.empty()) {
+      if (slot.enabled) rtcDisableGeometry(slot.geometry);
+      slot.enabled = false;
+      continue;
     }
-    for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+    const ClassedMesh& m = meshes[mesh_index];
+    if (slot.geometry == nullptr) {
+      slot.geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      if (slot.geometry == nullptr) {
+        check_device(impl_->device, "making a geometry");
+        throw Error(ErrorCode::InvalidData, "Embree failed while making a geometry");
+      }
+      // Embree builds with the geometry's quality too (Medium unless told), so
+      // a Low scene would otherwise still pay for a Medium build.
+      rtcSetGeometryBuildQuality(slot.geometry, impl_->quality);
+      slot.id = rtcAttachGeometry(impl_->scene, slot.geometry);
+      slot.enabled = true;
+      if (slot.id >= labels_.size()) {
+        labels_.resize(slot.id + 1, ClassId::Unknown);
+        meshes_.resize(slot.id + 1, 0);
+      }
+    }
+    const std::size_t vertex_count = m.vertices.size(), triangle_count = m.triangle_count();
+    auto* v = static_cast<float*>(
+        buffer_for(impl_->device, slot.vertices, slot.vertex_capacity, vertex_count, 3 * sizeof(float)));
+    auto* idx = static_cast<unsigned*>(
+        buffer_for(impl_->device, slot.indices, slot.triangle_capacity, triangle_count, 3 * sizeof(unsigned)));
+    for (std::size_t i = 0; i < vertex_count; ++i) {
       v[3 * i] = m.vertices[i].x();
       v[3 * i + 1] = m.vertices[i].y();
       v[3 * i + 2] = m.vertices[i].z();
     }
     std::copy(m.indices.begin(), m.indices.end(), idx);
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(impl_->scene, g);
-    rtcReleaseGeometry(g);
-    if (id >= labels_.size()) {
-      labels_.resize(id + 1, ClassId::Unknown);
-      meshes_.resize(id + 1, 0);
-    }
-    labels_[id] = m.label;
-    meshes_[id] = static_cast<std::uint32_t>(mesh_index);
+    rtcSetGeometryBuffer(slot.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, slot.vertices, 0,
+                         3 * sizeof(float), vertex_count);
+    rtcSetGeometryBuffer(slot.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, slot.indices, 0,
+                         3 * sizeof(unsigned), triangle_count);
+    if (!slot.enabled) rtcEnableGeometry(slot.geometry);
+    slot.enabled = true;
+    rtcCommitGeometry(slot.geometry);
+    labels_[slot.id] = m.label;
+    meshes_[slot.id] = static_cast<std::uint32_t>(mesh_index);
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the scene");

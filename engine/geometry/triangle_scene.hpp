@@ -37,6 +37,16 @@ class TriangleScene {
   // Embree fails. Robust mode always: rays never slip through the shared edge
   // of two triangles (a floor's diagonal, a box's corner).
   explicit TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality = BuildQuality::High);
+
+  // Replaces the meshes with these: the scene then answers as one built from
+  // them would (a hit's `mesh` is its index here), on the Embree scene,
+  // geometries and buffers of the last build where they hold the new meshes
+  // (buffers grow with half again as much room). For a scene rebuilt at
+  // every update (the topological map's walls): buffers made anew each time
+  // leave the allocator holes that long runs pay for in memory. Throws as the
+  // constructor does; a bad mesh is found before anything changes, but after
+  // an Embree failure the scene must not be traced. Not beside any query.
+  void rebuild(std::span<const ClassedMesh> meshes);
   ~TriangleScene();
   TriangleScene(const TriangleScene&) = delete;
   TriangleScene& operator=(const TriangleScene&) = delete;
@@ -97,7 +107,7 @@ class TriangleScene {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<ClassId> labels_;        // by Embree geometry id
-  std::vector<std::uint32_t> meshes_;  // by Embree geometry id: the index in the constructor's span
+  std::vector<std::uint32_t> meshes_;  // by Embree geometry id: the index in the last build's span
 };
 
 }  // namespace sarmap::geometry

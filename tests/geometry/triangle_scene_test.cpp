@@ -1,11 +1,13 @@
 // Tests of engine/geometry/triangle_scene.hpp's ray queries and mesh checks:
 // the first hit and its class, the ray interval, single rays and packets
-// giving the same hits, bad meshes refused with the mesh's name, and scenes
-// (which share one Embree device) built and traced on many threads at once.
+// giving the same hits, bad meshes refused with the mesh's name, scenes
+// (which share one Embree device) built and traced on many threads at once,
+// and a scene rebuilt in place answering as one built anew.
 #include "engine/geometry/triangle_scene.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -216,6 +218,80 @@ TEST(TriangleScene, ScenesOnManyThreadsAtOnceAnswerAsBuiltAlone) {
     EXPECT_EQ(together[s], alone[s]) << "scene " << s;
   }
   const TriangleScene::Hit hit = first_hit(older);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.t, 1.9, 1e-6);
+  EXPECT_EQ(hit.label, ClassId::Wall);
+}
+
+// A scene rebuilt again and again on its own storage, its meshes growing,
+// shrinking, emptied, filled again, fewer and more of them, answers every
+// query as a scene built anew from the same meshes: first hits (distance,
+// class), closest hits (mesh, triangle) and blocked segments.
+TEST(TriangleScene, RebuiltSceneAnswersAsOneBuiltAnew) {
+  const ClassId classes[] = {ClassId::Wall, ClassId::Other, ClassId::Terrain, ClassId::InclinedRamp};
+  for (const BuildQuality quality : {BuildQuality::Low, BuildQuality::High}) {
+    std::mt19937 rng(quality == BuildQuality::Low ? 7 : 8);
+    std::uniform_real_distribution<double> coord(-4, 4), size(0.1, 1.5), yaw(0, 3.14);
+    std::uniform_real_distribution<float> unit(-1, 1);
+    // Mesh k of a build: `boxes` random boxes (none: an empty mesh).
+    const auto random_meshes = [&](int count) {
+      std::vector<ClassedMesh> meshes;
+      for (int k = 0; k < count; ++k) {
+        ClassedMesh m;
+        const int boxes = static_cast<int>(rng() % 4) == 0 ? 0 : static_cast<int>(1 + rng() % 40);
+        for (int b = 0; b < boxes; ++b) {
+          append_box(m, yawed_box({coord(rng), coord(rng), coord(rng) / 4}, {size(rng), size(rng), size(rng)}, yaw(rng)));
+        }
+        meshes.push_back(labelled(std::move(m), classes[k % 4], "mesh " + std::to_string(k)));
+      }
+      return meshes;
+    };
+    std::vector<ClassedMesh> meshes = random_meshes(2);
+    TriangleScene rebuilt(meshes, quality);
+    const int counts[] = {3, 3, 1, 0, 2, 4, 4, 1, 3, 2, 4, 3};
+    for (int round = 0; round < 12; ++round) {
+      meshes = random_meshes(counts[round]);
+      rebuilt.rebuild(meshes);
+      const TriangleScene anew(meshes, quality);
+      std::size_t hits = 0;
+      for (int r = 0; r < 400; ++r) {
+        const Eigen::Vector3f origin(5 * unit(rng), 5 * unit(rng), unit(rng));
+        const Eigen::Vector3f direction(unit(rng), unit(rng), unit(rng) / 4);
+        const TriangleScene::SurfaceHit a = rebuilt.closest_hit(origin, direction, 0, 20);
+        const TriangleScene::SurfaceHit b = anew.closest_hit(origin, direction, 0, 20);
+        ASSERT_EQ(a.hit, b.hit) << "round " << round << ", ray " << r;
+        hits += a.hit;
+        if (!a.hit) continue;
+        EXPECT_EQ(a.t, b.t);
+        EXPECT_EQ(a.mesh, b.mesh);
+        EXPECT_EQ(a.triangle, b.triangle);
+        EXPECT_EQ(rebuilt.intersect(origin, direction, 0, 20).label, meshes[a.mesh].label);
+      }
+      const bool any_triangle =
+          std::any_of(meshes.begin(), meshes.end(), [](const ClassedMesh& m) { return !m.indices.empty(); });
+      EXPECT_EQ(hits > 0, any_triangle) << "round " << round;
+      std::vector<Segment> segments(300);
+      for (Segment& s : segments) {
+        s.p = Eigen::Vector3d(5 * unit(rng), 5 * unit(rng), unit(rng));
+        s.q = Eigen::Vector3d(5 * unit(rng), 5 * unit(rng), unit(rng));
+      }
+      std::vector<std::uint8_t> blocked_rebuilt(segments.size()), blocked_anew(segments.size());
+      rebuilt.segments_blocked(segments, blocked_rebuilt);
+      anew.segments_blocked(segments, blocked_anew);
+      EXPECT_EQ(blocked_rebuilt, blocked_anew) << "round " << round;
+    }
+  }
+}
+
+// A bad mesh is refused before the scene changes: it answers as before.
+TEST(TriangleScene, RebuildRefusingABadMeshLeavesTheSceneAsItWas) {
+  TriangleScene scene(wall_and_box());
+  std::vector<ClassedMesh> bad = wall_and_box();
+  bad[0].vertices.clear();
+  bad[1].vertices.push_back({std::nanf(""), 0, 0});
+  bad[1].indices.insert(bad[1].indices.end(), {0, 1, static_cast<std::uint32_t>(bad[1].vertices.size() - 1)});
+  EXPECT_THROW(scene.rebuild(bad), Error);
+  const TriangleScene::Hit hit = scene.intersect({0, 0, 0.5f}, {1, 0, 0}, 0, 100);
   ASSERT_TRUE(hit.hit);
   EXPECT_NEAR(hit.t, 1.9, 1e-6);
   EXPECT_EQ(hit.label, ClassId::Wall);
