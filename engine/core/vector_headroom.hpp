@@ -19,4 +19,10 @@ void assign_with_headroom(std::vector<T>& v, std::size_t n, const T& value) {
   v.assign(n, value);
 }
 
+// v holds room for n, reallocated with half again as much when it holds less.
+template <class T>
+void reserve_with_headroom(std::vector<T>& v, std::size_t n) {
+  if (v.capacity() < n) v.reserve(n + n / 2);
+}
+
 }  // namespace sarmap

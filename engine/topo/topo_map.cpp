@@ -39,7 +39,8 @@ TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric
   const ColumnRect reread = voxels_.refresh(map, changed);
   voxels_.columns(map.resolution(), columns_);
   update_traversability_grid(grid_, columns_, settings_, reread, grid_scratch_);
-  walls_ = std::make_unique<WallScene>(segments, &columns_, settings_);
+  if (walls_ == nullptr) walls_ = std::make_unique<WallScene>(settings_);
+  walls_->rebuild(segments, &columns_);
   last_ = TopoUpdate();
   last_.wall_boxes = walls_->boxes().size();
 

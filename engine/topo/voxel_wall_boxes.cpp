@@ -1,6 +1,5 @@
 #include "engine/topo/voxel_wall_boxes.hpp"
 
-#include "engine/core/flat_key_map.hpp"
 #include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::topo {
@@ -15,12 +14,12 @@ bool obstacle(ClassId label) { return label == ClassId::Wall || label == ClassId
 // first. The key leaves out other_hi: only the latest box with a given
 // (other_lo, z0, z1) can still be the one just before, so only it is kept,
 // and it is compared in full.
-std::vector<VoxelBox> merge_along(std::span<const VoxelBox> boxes, std::int32_t VoxelBox::*lo,
-                                  std::int32_t VoxelBox::*hi, std::int32_t VoxelBox::*other_lo,
-                                  std::int32_t VoxelBox::*other_hi) {
-  std::vector<VoxelBox> merged;
+void merge_along(std::span<const VoxelBox> boxes, std::int32_t VoxelBox::*lo, std::int32_t VoxelBox::*hi,
+                 std::int32_t VoxelBox::*other_lo, std::int32_t VoxelBox::*other_hi, FlatKeyMap<std::uint32_t>& open,
+                 std::vector<VoxelBox>& merged) {
+  merged.clear();
   // Each key's latest box, by its index in `merged`.
-  FlatKeyMap<std::uint32_t> open(boxes.size() + 16);
+  open.clear();
   for (const VoxelBox& box : boxes) {
     const auto [at, added] =
         open.try_emplace(metric::pack(box.*other_lo, box.z0, box.z1), static_cast<std::uint32_t>(merged.size()));
@@ -35,13 +34,18 @@ std::vector<VoxelBox> merge_along(std::span<const VoxelBox> boxes, std::int32_t 
     }
     merged.push_back(box);
   }
-  return merged;
 }
 
 }  // namespace
 
 std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns) {
   std::vector<VoxelBox> runs;
+  obstacle_runs(columns, runs);
+  return runs;
+}
+
+void obstacle_runs(const VoxelColumns& columns, std::vector<VoxelBox>& runs) {
+  runs.clear();
   for (int y = 0; y < columns.height; ++y) {
     for (int x = 0; x < columns.width; ++x) {
       const std::size_t c = columns.column(x, y);
@@ -58,14 +62,20 @@ std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns) {
       }
     }
   }
-  return runs;
 }
 
 std::vector<VoxelBox> merge_runs(std::span<const VoxelBox> runs) {
+  BoxMergeScratch scratch;
+  std::vector<VoxelBox> merged;
+  merge_runs(runs, scratch, merged);
+  return merged;
+}
+
+void merge_runs(std::span<const VoxelBox> runs, BoxMergeScratch& scratch, std::vector<VoxelBox>& merged) {
   // Runs come column by column along each row, so along x first; the strips
   // then come row by row, so along y.
-  const std::vector<VoxelBox> strips = merge_along(runs, &VoxelBox::x0, &VoxelBox::x1, &VoxelBox::y0, &VoxelBox::y1);
-  return merge_along(strips, &VoxelBox::y0, &VoxelBox::y1, &VoxelBox::x0, &VoxelBox::x1);
+  merge_along(runs, &VoxelBox::x0, &VoxelBox::x1, &VoxelBox::y0, &VoxelBox::y1, scratch.open, scratch.strips);
+  merge_along(scratch.strips, &VoxelBox::y0, &VoxelBox::y1, &VoxelBox::x0, &VoxelBox::x1, scratch.open, merged);
 }
 
 geometry::OrientedBox grown_box(const VoxelBox& box, double resolution, double grow) {

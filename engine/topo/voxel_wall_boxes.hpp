@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "engine/core/flat_key_map.hpp"
 #include "engine/geometry/oriented_box.hpp"
 #include "engine/topo/voxel_columns.hpp"
 
@@ -26,12 +27,23 @@ struct VoxelBox {
 // Every vertical run of wall or other voxels, one column wide, in column
 // order (y, then x, then z).
 std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns);
+// The same into `runs` (emptied first), on its storage while that holds them.
+void obstacle_runs(const VoxelColumns& columns, std::vector<VoxelBox>& runs);
+
+// What merge_runs needs between its two merges, kept by a caller that merges
+// at every update so that its arrays are not made anew each time.
+struct BoxMergeScratch {
+  std::vector<VoxelBox> strips;
+  FlatKeyMap<std::uint32_t> open;
+};
 
 // The same voxels in fewer boxes: runs merged along x where neighbouring
 // columns of a row hold a run of the same heights, then those strips along y
 // where neighbouring rows hold one of the same x extent and heights. `runs`
 // in obstacle_runs' order; the result is deterministic.
 std::vector<VoxelBox> merge_runs(std::span<const VoxelBox> runs);
+// The same into `merged` (emptied first), on its and the scratch's storage.
+void merge_runs(std::span<const VoxelBox> runs, BoxMergeScratch& scratch, std::vector<VoxelBox>& merged);
 
 // The box's space in metres, grown by `grow` on every side.
 geometry::OrientedBox grown_box(const VoxelBox& box, double resolution, double grow);

@@ -5,8 +5,8 @@
 #include <span>
 
 #include "engine/core/error.hpp"
+#include "engine/core/vector_headroom.hpp"
 #include "engine/geometry/segment_box.hpp"
-#include "engine/topo/voxel_wall_boxes.hpp"
 
 namespace sarmap::topo {
 namespace {
@@ -33,45 +33,79 @@ geometry::OrientedBox segment_box(const segments::Segment& s, double grow) {
 
 }  // namespace
 
+WallScene::WallScene(const TopoSettings& settings) : settings_(settings) {
+  validate(settings_);
+  mesh_.label = ClassId::Wall;
+  mesh_.name = "walls";
+}
+
 WallScene::WallScene(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
                      const TopoSettings& settings)
-    : settings_(settings) {
-  validate(settings_);
+    : WallScene(settings) {
+  rebuild(segments, columns);
+}
+
+void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns) {
+  voxel_boxes_.clear();
+  if (columns != nullptr && settings_.obstacle_voxels) {
+    obstacle_runs(*columns, runs_);
+    merge_runs(runs_, merge_scratch_, voxel_boxes_);
+  }
+  boxes_.clear();
+  reserve_with_headroom(boxes_, segments.size() + voxel_boxes_.size());
   for (const segments::Segment* s : segments) {
     if (s->label == ClassId::Wall) boxes_.push_back(segment_box(*s, settings_.robot_radius));
   }
   segment_boxes_ = boxes_.size();
-  if (columns != nullptr && settings_.obstacle_voxels) {
-    for (const VoxelBox& box : merge_runs(obstacle_runs(*columns))) {
-      boxes_.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
-    }
-  }
-  for (std::uint32_t b = 0; b < boxes_.size(); ++b) {
-    const geometry::OrientedBox& box = boxes_[b];
+  for (const VoxelBox& box : voxel_boxes_) boxes_.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
+
+  // The cells each box's bounding box touches, counted, then listed.
+  const auto for_each_cell = [&](const geometry::OrientedBox& box, auto&& visit) {
     // The box's reach in x and y: |axes| times the half extents.
     const Eigen::Vector3d reach = box.axes.cwiseAbs() * box.half_extents;
     for (std::int64_t x = box_cell(box.center.x() - reach.x()); x <= box_cell(box.center.x() + reach.x()); ++x) {
       for (std::int64_t y = box_cell(box.center.y() - reach.y()); y <= box_cell(box.center.y() + reach.y()); ++y) {
-        cells_[cell_key(x, y)].push_back(b);
+        visit(cell_key(x, y));
       }
     }
+  };
+  cell_index_.clear();
+  for (const geometry::OrientedBox& box : boxes_) {
+    for_each_cell(box, [&](std::uint64_t key) { ++cell_index_[key]; });
   }
+  std::vector<std::uint32_t>& counts = cell_index_.values();
+  cell_start_.assign(counts.size() + 1, 0);
+  for (std::size_t c = 0; c < counts.size(); ++c) {
+    cell_start_[c + 1] = cell_start_[c] + counts[c];
+    counts[c] = cell_start_[c];  // from here on, where the cell's next box goes
+  }
+  cell_boxes_.resize(cell_start_.back());
+  for (std::uint32_t b = 0; b < boxes_.size(); ++b) {
+    for_each_cell(boxes_[b], [&](std::uint64_t key) { cell_boxes_[(*cell_index_.find(key))++] = b; });
+  }
+
   // One mesh for all boxes: the scene is rebuilt often, and one merged mesh
   // builds several times faster than a mesh per box (bench/geometry).
-  geometry::ClassedMesh walls;
-  walls.label = ClassId::Wall;
-  walls.name = "walls";
-  for (const geometry::OrientedBox& box : boxes_) geometry::append_box(walls, box);
-  scene_ = std::make_unique<geometry::TriangleScene>(std::span<const geometry::ClassedMesh>(&walls, 1),
-                                                      geometry::BuildQuality::Low);
+  mesh_.vertices.clear();
+  mesh_.indices.clear();
+  reserve_with_headroom(mesh_.vertices, 8 * boxes_.size());
+  reserve_with_headroom(mesh_.indices, 36 * boxes_.size());
+  for (const geometry::OrientedBox& box : boxes_) geometry::append_box(mesh_, box);
+  const std::span<const geometry::ClassedMesh> meshes(&mesh_, 1);
+  if (scene_ == nullptr) {
+    scene_ = std::make_unique<geometry::TriangleScene>(meshes, geometry::BuildQuality::Low);
+  } else {
+    scene_->rebuild(meshes);
+  }
 }
 
 WallScene::~WallScene() = default;
 
 bool WallScene::clear(const Eigen::Vector3d& stand) const {
-  const auto it = cells_.find(cell_key(box_cell(stand.x()), box_cell(stand.y())));
-  if (it == cells_.end()) return true;
-  for (std::uint32_t b : it->second) {
+  const std::uint32_t cell = cell_index_.index_of(cell_key(box_cell(stand.x()), box_cell(stand.y())));
+  if (cell == FlatKeyMap<std::uint32_t>::kAbsent) return true;
+  for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+    const std::uint32_t b = cell_boxes_[k];
     for (double h : settings_.body_heights) {
       if (geometry::signed_distance(stand + Eigen::Vector3d(0, 0, h), boxes_[b]) <= geometry::kSurfaceTolerance) return false;
     }

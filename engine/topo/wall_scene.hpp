@@ -11,16 +11,17 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "engine/core/flat_key_map.hpp"
 #include "engine/geometry/oriented_box.hpp"
 #include "engine/geometry/triangle_scene.hpp"
 #include "engine/topo/voxel_columns.hpp"
 #include "engine/segments/segment.hpp"
 #include "engine/topo/topo_settings.hpp"
+#include "engine/topo/voxel_wall_boxes.hpp"
 
 namespace sarmap::topo {
 
@@ -31,11 +32,20 @@ struct StandPair {
 
 class WallScene {
  public:
+  // A scene of no walls, for rebuild(). Throws sarmap::Error for bad settings.
+  explicit WallScene(const TopoSettings& settings);
   // `columns` may be null (no voxels), and voxels are used only when
   // settings.obstacle_voxels is set. Throws sarmap::Error for bad settings.
   WallScene(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
             const TopoSettings& settings);
   ~WallScene();
+
+  // Becomes the scene of these segments and columns, as made by the
+  // constructor, on the arrays and Embree scene of the last build: the
+  // topological map rebuilds its walls at every update, and a whole-map
+  // scene's arrays made anew each time fragmented the heap of long runs.
+  // Throws as the constructor does; the scene must not be used after a throw.
+  void rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns);
 
   // Whether a robot standing here is clear of every (grown) box at each body
   // height, by more than the scene's float tolerance: a place on a box's
@@ -55,8 +65,15 @@ class WallScene {
   std::vector<geometry::OrientedBox> boxes_;
   std::size_t segment_boxes_ = 0;
   std::unique_ptr<geometry::TriangleScene> scene_;
-  // Boxes by the cells (kBoxCell metres) their bounding boxes touch, for clear().
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+  // Boxes by the cells (kBoxCell metres) their bounding boxes touch, for
+  // clear(): cell i's boxes are cell_boxes_[cell_start_[i] .. cell_start_[i + 1]),
+  // cells numbered in cell_index_.
+  FlatKeyMap<std::uint32_t> cell_index_;
+  std::vector<std::uint32_t> cell_start_, cell_boxes_;
+  // Kept between builds for their storage.
+  std::vector<VoxelBox> runs_, voxel_boxes_;
+  BoxMergeScratch merge_scratch_;
+  geometry::ClassedMesh mesh_;
 };
 
 }  // namespace sarmap::topo

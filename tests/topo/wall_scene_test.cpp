@@ -1,0 +1,127 @@
+// Tests of engine/topo/wall_scene.hpp's rebuild: a wall scene rebuilt update
+// after update on its own storage (as the topological map keeps it) holds the
+// same boxes and answers every question as a scene made anew from the same
+// segments and voxel columns.
+#include "engine/topo/wall_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+namespace sarmap::topo {
+namespace {
+
+// Random voxel columns over width x height columns from (x0, y0): walls
+// along a row and a column, then random voxels of several classes.
+VoxelColumns random_columns(std::mt19937& rng, int width, int height, std::int32_t x0, std::int32_t y0) {
+  constexpr int kDepth = 12;
+  std::vector<ClassId> labels(static_cast<std::size_t>(width) * height * kDepth, ClassId::Unknown);
+  auto at = [&](int x, int y, int z) -> ClassId& { return labels[x + width * (y + height * z)]; };
+  const int wall_y = static_cast<int>(rng() % height), wall_x = static_cast<int>(rng() % width);
+  for (int z = 1; z < 9; ++z) {
+    for (int x = 0; x < width; ++x) at(x, wall_y, z) = ClassId::Wall;
+    for (int y = 0; y < height; ++y) at(wall_x, y, z) = ClassId::Other;
+  }
+  const ClassId choices[] = {ClassId::Unknown, ClassId::Terrain, ClassId::Wall, ClassId::Other};
+  for (int k = 0; k < width * height; ++k) {
+    at(static_cast<int>(rng() % width), static_cast<int>(rng() % height), static_cast<int>(rng() % kDepth)) =
+        choices[rng() % 4];
+  }
+  VoxelColumns out;
+  out.resolution = 0.05;
+  out.x0 = x0;
+  out.y0 = y0;
+  out.width = width;
+  out.height = height;
+  out.start.push_back(0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      for (int z = 0; z < kDepth; ++z) {
+        if (at(x, y, z) == ClassId::Unknown) continue;
+        out.z.push_back(z);
+        out.label.push_back(at(x, y, z));
+      }
+      out.start.push_back(static_cast<std::uint32_t>(out.z.size()));
+    }
+  }
+  return out;
+}
+
+// `count` upright wall segments (and one floor, which is no wall) at random places.
+std::vector<segments::Segment> random_segments(std::mt19937& rng, int count) {
+  std::uniform_real_distribution<double> coord(-1, 3), half(0.1, 1.0), angle(0, 3.14);
+  std::vector<segments::Segment> out;
+  for (int k = 0; k <= count; ++k) {
+    segments::Segment s;
+    s.id = static_cast<std::uint32_t>(k);
+    s.label = k == count ? ClassId::Terrain : ClassId::Wall;
+    const double a = angle(rng);
+    s.rectangle.center = {coord(rng), coord(rng), 0.4};
+    s.rectangle.axes = {Eigen::Vector3d(std::cos(a), std::sin(a), 0), Eigen::Vector3d::UnitZ()};
+    s.rectangle.half_extents = {half(rng), 0.4};
+    s.plane.normal = Eigen::Vector3d(-std::sin(a), std::cos(a), 0);
+    s.thickness = 0.02;
+    out.push_back(s);
+  }
+  return out;
+}
+
+TEST(WallScene, RebuiltSceneEqualsOneMadeAnew) {
+  const TopoSettings settings;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coord(-1.5, 3.5);
+  WallScene rebuilt(settings);
+  // Extents and contents that grow, shrink and move; a build with no voxels
+  // and one with neither voxels nor walls among them.
+  const int sizes[][2] = {{20, 10}, {40, 30}, {60, 50}, {30, 60}, {0, 0}, {70, 20}, {10, 10}, {50, 50}};
+  for (int round = 0; round < 8; ++round) {
+    const int width = sizes[round][0], height = sizes[round][1];
+    const VoxelColumns columns = random_columns(rng, std::max(width, 1), std::max(height, 1),
+                                                static_cast<std::int32_t>(rng() % 20) - 10, -5);
+    const std::vector<segments::Segment> walls = random_segments(rng, width == 0 ? 0 : 1 + static_cast<int>(rng() % 4));
+    std::vector<const segments::Segment*> segments;
+    for (const segments::Segment& s : walls) segments.push_back(&s);
+    const VoxelColumns* voxels = width == 0 ? nullptr : &columns;
+    rebuilt.rebuild(segments, voxels);
+    const WallScene anew(segments, voxels, settings);
+
+    ASSERT_EQ(rebuilt.boxes().size(), anew.boxes().size()) << "round " << round;
+    EXPECT_EQ(rebuilt.segment_boxes(), anew.segment_boxes());
+    for (std::size_t b = 0; b < anew.boxes().size(); ++b) {
+      EXPECT_EQ(rebuilt.boxes()[b].center, anew.boxes()[b].center);
+      EXPECT_EQ(rebuilt.boxes()[b].half_extents, anew.boxes()[b].half_extents);
+    }
+    if (width > 0) {
+      EXPECT_GT(anew.boxes().size(), anew.segment_boxes()) << "round " << round;
+    }
+
+    std::size_t blocked_count = 0, clear_count = 0;
+    std::vector<StandPair> pairs(500);
+    for (StandPair& p : pairs) {
+      p.from = {coord(rng), coord(rng), 0};
+      p.to = {coord(rng), coord(rng), 0};
+      const bool clear = anew.clear(p.from);
+      EXPECT_EQ(rebuilt.clear(p.from), clear);
+      clear_count += clear;
+    }
+    std::vector<std::uint8_t> blocked_rebuilt(pairs.size()), blocked_anew(pairs.size());
+    rebuilt.blocked(pairs, blocked_rebuilt);
+    anew.blocked(pairs, blocked_anew);
+    EXPECT_EQ(blocked_rebuilt, blocked_anew) << "round " << round;
+    for (std::uint8_t b : blocked_anew) blocked_count += b;
+    if (width > 0) {
+      // Both answers are asked somewhere: the test would not see a scene that blocks everything.
+      EXPECT_GT(blocked_count, 0u) << "round " << round;
+      EXPECT_LT(blocked_count, pairs.size()) << "round " << round;
+      EXPECT_GT(clear_count, 0u) << "round " << round;
+      EXPECT_LT(clear_count, pairs.size()) << "round " << round;
+    } else {
+      EXPECT_EQ(blocked_count, 0u);
+      EXPECT_EQ(clear_count, pairs.size());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sarmap::topo
