@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -25,6 +26,7 @@ struct TriangleScene::Impl {
     bool enabled = false;
     RTCBuffer vertices = nullptr, indices = nullptr;
     std::size_t vertex_capacity = 0, triangle_capacity = 0;
+    std::size_t vertex_count = 0, triangle_count = 0;  // of the mesh in the buffers
   };
 
   RTCDevice device = nullptr;
@@ -214,6 +216,16 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
       }
     }
     const std::size_t vertex_count = m.vertices.size(), triangle_count = m.triangle_count();
+    labels_[slot.id] = m.label;
+    meshes_[slot.id] = static_cast<std::uint32_t>(mesh_index);
+    static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "vertices compared as packed floats");
+    // An unchanged mesh keeps its BVH: in a Low-quality scene (two levels)
+    // only the geometries committed since the last build are built again.
+    if (slot.enabled && slot.vertex_count == vertex_count && slot.triangle_count == triangle_count &&
+        std::memcmp(rtcGetBufferData(slot.vertices), m.vertices.data(), vertex_count * 3 * sizeof(float)) == 0 &&
+        std::memcmp(rtcGetBufferData(slot.indices), m.indices.data(), triangle_count * 3 * sizeof(unsigned)) == 0) {
+      continue;
+    }
     auto* v = static_cast<float*>(
         buffer_for(impl_->device, slot.vertices, slot.vertex_capacity, vertex_count, 3 * sizeof(float)));
     auto* idx = static_cast<unsigned*>(
@@ -228,11 +240,11 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
                          3 * sizeof(float), vertex_count);
     rtcSetGeometryBuffer(slot.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, slot.indices, 0,
                          3 * sizeof(unsigned), triangle_count);
+    slot.vertex_count = vertex_count;
+    slot.triangle_count = triangle_count;
     if (!slot.enabled) rtcEnableGeometry(slot.geometry);
     slot.enabled = true;
     rtcCommitGeometry(slot.geometry);
-    labels_[slot.id] = m.label;
-    meshes_[slot.id] = static_cast<std::uint32_t>(mesh_index);
   }
   rtcCommitScene(impl_->scene);
   check_device(impl_->device, "building the scene");

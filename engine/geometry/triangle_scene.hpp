@@ -41,9 +41,12 @@ class TriangleScene {
   // Replaces the meshes with these: the scene then answers as one built from
   // them would (a hit's `mesh` is its index here), on the Embree scene,
   // geometries and buffers of the last build where they hold the new meshes
-  // (buffers grow with half again as much room). For a scene rebuilt at
-  // every update (the topological map's walls): buffers made anew each time
-  // leave the allocator holes that long runs pay for in memory. Throws as the
+  // (buffers grow with half again as much room). A mesh equal to the one
+  // at its index in the last build is not built again: in a Low-quality scene
+  // (Embree's two-level index) the build then costs what changed. For a scene
+  // rebuilt at every update (the topological map's walls, a mesh per tile):
+  // buffers made anew each time leave the allocator holes that long runs pay
+  // for in memory. Throws as the
   // constructor does; a bad mesh is found before anything changes, but after
   // an Embree failure the scene must not be traced. Not beside any query.
   void rebuild(std::span<const ClassedMesh> meshes);

@@ -1,5 +1,7 @@
 #include "engine/topo/voxel_wall_boxes.hpp"
 
+#include <algorithm>
+
 #include "engine/metric/voxel_key.hpp"
 
 namespace sarmap::topo {
@@ -40,14 +42,17 @@ void merge_along(std::span<const VoxelBox> boxes, std::int32_t VoxelBox::*lo, st
 
 std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns) {
   std::vector<VoxelBox> runs;
-  obstacle_runs(columns, runs);
+  const ColumnRect all{columns.x0, columns.x0 + columns.width - 1, columns.y0, columns.y0 + columns.height - 1};
+  obstacle_runs(columns, all, runs);
   return runs;
 }
 
-void obstacle_runs(const VoxelColumns& columns, std::vector<VoxelBox>& runs) {
+void obstacle_runs(const VoxelColumns& columns, const ColumnRect& within, std::vector<VoxelBox>& runs) {
   runs.clear();
-  for (int y = 0; y < columns.height; ++y) {
-    for (int x = 0; x < columns.width; ++x) {
+  const int x_begin = std::max(within.x0 - columns.x0, 0), x_end = std::min(within.x1 - columns.x0 + 1, columns.width);
+  const int y_begin = std::max(within.y0 - columns.y0, 0), y_end = std::min(within.y1 - columns.y0 + 1, columns.height);
+  for (int y = y_begin; y < y_end; ++y) {
+    for (int x = x_begin; x < x_end; ++x) {
       const std::size_t c = columns.column(x, y);
       for (std::uint32_t i = columns.start[c]; i < columns.start[c + 1];) {
         if (!obstacle(columns.label[i])) {

@@ -27,8 +27,9 @@ struct VoxelBox {
 // Every vertical run of wall or other voxels, one column wide, in column
 // order (y, then x, then z).
 std::vector<VoxelBox> obstacle_runs(const VoxelColumns& columns);
-// The same into `runs` (emptied first), on its storage while that holds them.
-void obstacle_runs(const VoxelColumns& columns, std::vector<VoxelBox>& runs);
+// The runs of the columns within `within` (voxel indices), in the same
+// order, into `runs` (emptied first), on its storage while that holds them.
+void obstacle_runs(const VoxelColumns& columns, const ColumnRect& within, std::vector<VoxelBox>& runs);
 
 // What merge_runs needs between its two merges, kept by a caller that merges
 // at every update so that its arrays are not made anew each time.

@@ -13,6 +13,8 @@ namespace {
 
 constexpr double kBoxCell = 1.0;
 
+std::int32_t floor_div(std::int32_t a, std::int32_t b) { return a / b - (a % b != 0 && (a < 0) != (b < 0)); }
+
 std::int64_t box_cell(double v) { return static_cast<std::int64_t>(std::floor(v / kBoxCell)); }
 
 std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
@@ -35,8 +37,7 @@ geometry::OrientedBox segment_box(const segments::Segment& s, double grow) {
 
 WallScene::WallScene(const TopoSettings& settings) : settings_(settings) {
   validate(settings_);
-  mesh_.label = ClassId::Wall;
-  mesh_.name = "walls";
+  add_mesh();  // the segments' boxes
 }
 
 WallScene::WallScene(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
@@ -46,18 +47,37 @@ WallScene::WallScene(const std::vector<const segments::Segment*>& segments, cons
 }
 
 void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns) {
-  voxel_boxes_.clear();
-  if (columns != nullptr && settings_.obstacle_voxels) {
-    obstacle_runs(*columns, runs_);
-    merge_runs(runs_, merge_scratch_, voxel_boxes_);
+  for (geometry::ClassedMesh& mesh : meshes_) {
+    mesh.vertices.clear();
+    mesh.indices.clear();
   }
   boxes_.clear();
-  reserve_with_headroom(boxes_, segments.size() + voxel_boxes_.size());
   for (const segments::Segment* s : segments) {
-    if (s->label == ClassId::Wall) boxes_.push_back(segment_box(*s, settings_.robot_radius));
+    if (s->label == ClassId::Wall) add_box(0, segment_box(*s, settings_.robot_radius));
   }
   segment_boxes_ = boxes_.size();
-  for (const VoxelBox& box : voxel_boxes_) boxes_.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
+  if (columns != nullptr && settings_.obstacle_voxels && columns->width > 0 && columns->height > 0) {
+    const std::int32_t tx0 = floor_div(columns->x0, kTileColumns);
+    const std::int32_t tx1 = floor_div(columns->x0 + columns->width - 1, kTileColumns);
+    const std::int32_t ty0 = floor_div(columns->y0, kTileColumns);
+    const std::int32_t ty1 = floor_div(columns->y0 + columns->height - 1, kTileColumns);
+    for (std::int32_t ty = ty0; ty <= ty1; ++ty) {
+      for (std::int32_t tx = tx0; tx <= tx1; ++tx) {
+        const ColumnRect tile{tx * kTileColumns, tx * kTileColumns + kTileColumns - 1, ty * kTileColumns,
+                              ty * kTileColumns + kTileColumns - 1};
+        obstacle_runs(*columns, tile, runs_);
+        if (runs_.empty()) continue;
+        merge_runs(runs_, merge_scratch_, voxel_boxes_);
+        // A tile keeps its mesh for the scene's life: unchanged, it is not built again.
+        const auto [at, added] = tile_mesh_.try_emplace(cell_key(tx, ty), static_cast<std::uint32_t>(meshes_.size()));
+        if (added) add_mesh();
+        const std::uint32_t mesh = tile_mesh_.values()[at];
+        reserve_with_headroom(meshes_[mesh].vertices, 8 * voxel_boxes_.size());
+        reserve_with_headroom(meshes_[mesh].indices, 36 * voxel_boxes_.size());
+        for (const VoxelBox& box : voxel_boxes_) add_box(mesh, grown_box(box, columns->resolution, settings_.robot_radius));
+      }
+    }
+  }
 
   // The cells each box's bounding box touches, counted, then listed.
   const auto for_each_cell = [&](const geometry::OrientedBox& box, auto&& visit) {
@@ -84,19 +104,22 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
     for_each_cell(boxes_[b], [&](std::uint64_t key) { cell_boxes_[(*cell_index_.find(key))++] = b; });
   }
 
-  // One mesh for all boxes: the scene is rebuilt often, and one merged mesh
-  // builds several times faster than a mesh per box (bench/geometry).
-  mesh_.vertices.clear();
-  mesh_.indices.clear();
-  reserve_with_headroom(mesh_.vertices, 8 * boxes_.size());
-  reserve_with_headroom(mesh_.indices, 36 * boxes_.size());
-  for (const geometry::OrientedBox& box : boxes_) geometry::append_box(mesh_, box);
-  const std::span<const geometry::ClassedMesh> meshes(&mesh_, 1);
   if (scene_ == nullptr) {
-    scene_ = std::make_unique<geometry::TriangleScene>(meshes, geometry::BuildQuality::Low);
+    scene_ = std::make_unique<geometry::TriangleScene>(meshes_, geometry::BuildQuality::Low);
   } else {
-    scene_->rebuild(meshes);
+    scene_->rebuild(meshes_);
   }
+}
+
+void WallScene::add_mesh() {
+  geometry::ClassedMesh& mesh = meshes_.emplace_back();
+  mesh.label = ClassId::Wall;
+  mesh.name = "walls";
+}
+
+void WallScene::add_box(std::uint32_t mesh, const geometry::OrientedBox& box) {
+  boxes_.push_back(box);
+  geometry::append_box(meshes_[mesh], box);
 }
 
 WallScene::~WallScene() = default;

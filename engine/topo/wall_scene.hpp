@@ -2,7 +2,11 @@
 // Embree scene: every wall segment as a box around its rectangle, plus the
 // occupied voxels of class wall or other (vertical runs of columns, merged
 // where neighbours share extents: engine/topo/voxel_wall_boxes.hpp), all
-// grown by the robot's radius. An edge is tested as occluded rays between its
+// grown by the robot's radius. Voxel boxes are merged within tiles of
+// kTileColumns x kTileColumns columns, a mesh per tile, so that a rebuild
+// builds again only the tiles whose boxes changed (Embree's two-level index);
+// the split keeps the same solid, as a grown box is the box's Minkowski sum
+// with a cube and the union of such sums is the sum of the union. An edge is tested as occluded rays between its
 // two stand points at each of the robot's body heights, in parallel batches.
 // (The sides of platforms and ramps are not walls here: low at a ramp's foot,
 // they are drops, which the ground profile finds.)
@@ -56,7 +60,10 @@ class WallScene {
   // Deterministic on any thread count; allocation proportional to the batch.
   void blocked(std::span<const StandPair> pairs, std::span<std::uint8_t> blocked) const;
 
-  // The grown boxes in the scene (segments first, then voxel boxes).
+  // Voxel boxes are merged within tiles of this many columns a side.
+  static constexpr std::int32_t kTileColumns = 64;
+
+  // The grown boxes in the scene (segments first, then voxel boxes tile by tile).
   const std::vector<geometry::OrientedBox>& boxes() const { return boxes_; }
   std::size_t segment_boxes() const { return segment_boxes_; }
 
@@ -70,10 +77,16 @@ class WallScene {
   // cells numbered in cell_index_.
   FlatKeyMap<std::uint32_t> cell_index_;
   std::vector<std::uint32_t> cell_start_, cell_boxes_;
+  void add_mesh();
+  void add_box(std::uint32_t mesh, const geometry::OrientedBox& box);
+
+  // Mesh 0 holds the segments' boxes, the others a tile's each (empty while
+  // the tile holds none), numbered in tile_mesh_.
+  std::vector<geometry::ClassedMesh> meshes_;
+  FlatKeyMap<std::uint32_t> tile_mesh_;
   // Kept between builds for their storage.
   std::vector<VoxelBox> runs_, voxel_boxes_;
   BoxMergeScratch merge_scratch_;
-  geometry::ClassedMesh mesh_;
 };
 
 }  // namespace sarmap::topo

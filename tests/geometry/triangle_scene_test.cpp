@@ -224,7 +224,7 @@ TEST(TriangleScene, ScenesOnManyThreadsAtOnceAnswerAsBuiltAlone) {
 }
 
 // A scene rebuilt again and again on its own storage, its meshes growing,
-// shrinking, emptied, filled again, fewer and more of them, answers every
+// shrinking, emptied, filled again, kept, moved, fewer and more, answers every
 // query as a scene built anew from the same meshes: first hits (distance,
 // class), closest hits (mesh, triangle) and blocked segments.
 TEST(TriangleScene, RebuiltSceneAnswersAsOneBuiltAnew) {
@@ -233,10 +233,18 @@ TEST(TriangleScene, RebuiltSceneAnswersAsOneBuiltAnew) {
     std::mt19937 rng(quality == BuildQuality::Low ? 7 : 8);
     std::uniform_real_distribution<double> coord(-4, 4), size(0.1, 1.5), yaw(0, 3.14);
     std::uniform_real_distribution<float> unit(-1, 1);
-    // Mesh k of a build: `boxes` random boxes (none: an empty mesh).
-    const auto random_meshes = [&](int count) {
+    // Mesh k of a build: the last build's mesh k as it was or moved (same
+    // counts, other vertices), or `boxes` random boxes (none: an empty mesh).
+    const auto random_meshes = [&](int count, const std::vector<ClassedMesh>& last) {
       std::vector<ClassedMesh> meshes;
       for (int k = 0; k < count; ++k) {
+        if (k < static_cast<int>(last.size()) && rng() % 2 == 0) {
+          meshes.push_back(last[k]);
+          if (rng() % 2 == 0) {
+            for (Eigen::Vector3f& v : meshes.back().vertices) v.x() += 0.25f;
+          }
+          continue;
+        }
         ClassedMesh m;
         const int boxes = static_cast<int>(rng() % 4) == 0 ? 0 : static_cast<int>(1 + rng() % 40);
         for (int b = 0; b < boxes; ++b) {
@@ -246,11 +254,11 @@ TEST(TriangleScene, RebuiltSceneAnswersAsOneBuiltAnew) {
       }
       return meshes;
     };
-    std::vector<ClassedMesh> meshes = random_meshes(2);
+    std::vector<ClassedMesh> meshes = random_meshes(2, {});
     TriangleScene rebuilt(meshes, quality);
     const int counts[] = {3, 3, 1, 0, 2, 4, 4, 1, 3, 2, 4, 3};
     for (int round = 0; round < 12; ++round) {
-      meshes = random_meshes(counts[round]);
+      meshes = random_meshes(counts[round], meshes);
       rebuilt.rebuild(meshes);
       const TriangleScene anew(meshes, quality);
       std::size_t hits = 0;

@@ -1,20 +1,29 @@
-// Tests of engine/topo/wall_scene.hpp's rebuild: a wall scene rebuilt update
-// after update on its own storage (as the topological map keeps it) holds the
-// same boxes and answers every question as a scene made anew from the same
-// segments and voxel columns.
+// Tests of engine/topo/wall_scene.hpp: its voxel boxes merged tile by tile
+// answer as the exact union of the boxes merged over the whole map, and a
+// wall scene rebuilt update after update on its own storage (as the
+// topological map keeps it) holds the same boxes and answers every question
+// as a scene made anew from the same segments and voxel columns.
 #include "engine/topo/wall_scene.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <map>
 #include <random>
 #include <vector>
+
+#include "engine/geometry/segment_box.hpp"
+#include "engine/topo/voxel_wall_boxes.hpp"
 
 namespace sarmap::topo {
 namespace {
 
 // Random voxel columns over width x height columns from (x0, y0): walls
-// along a row and a column, then random voxels of several classes.
-VoxelColumns random_columns(std::mt19937& rng, int width, int height, std::int32_t x0, std::int32_t y0) {
+// along a row and a column, then `scattered` random voxels of several classes
+// (one per column by default).
+VoxelColumns random_columns(std::mt19937& rng, int width, int height, std::int32_t x0, std::int32_t y0,
+                            int scattered = -1) {
   constexpr int kDepth = 12;
   std::vector<ClassId> labels(static_cast<std::size_t>(width) * height * kDepth, ClassId::Unknown);
   auto at = [&](int x, int y, int z) -> ClassId& { return labels[x + width * (y + height * z)]; };
@@ -24,7 +33,7 @@ VoxelColumns random_columns(std::mt19937& rng, int width, int height, std::int32
     for (int y = 0; y < height; ++y) at(wall_x, y, z) = ClassId::Other;
   }
   const ClassId choices[] = {ClassId::Unknown, ClassId::Terrain, ClassId::Wall, ClassId::Other};
-  for (int k = 0; k < width * height; ++k) {
+  for (int k = 0; k < (scattered < 0 ? width * height : scattered); ++k) {
     at(static_cast<int>(rng() % width), static_cast<int>(rng() % height), static_cast<int>(rng() % kDepth)) =
         choices[rng() % 4];
   }
@@ -65,6 +74,94 @@ std::vector<segments::Segment> random_segments(std::mt19937& rng, int count) {
     out.push_back(s);
   }
   return out;
+}
+
+// Columns spanning several tiles (walls across their borders), against the
+// exact geometry of the boxes merged over the whole map: a stand is clear
+// exactly when it is farther than the tolerance from every such box at each
+// body height, and a drive between clear stands is blocked exactly when it
+// meets one at some height (drives within the tolerance of a surface left out).
+TEST(WallScene, TilesAnswerAsTheBoxesOfTheWholeMap) {
+  const TopoSettings settings;
+  std::mt19937 rng(5);
+  const VoxelColumns columns = random_columns(rng, 3 * WallScene::kTileColumns + 9, 70, -WallScene::kTileColumns - 5, -20, 60);
+  const WallScene scene({}, &columns, settings);
+  std::vector<geometry::OrientedBox> whole;
+  for (const VoxelBox& box : merge_runs(obstacle_runs(columns))) {
+    whole.push_back(grown_box(box, columns.resolution, settings.robot_radius));
+  }
+  ASSERT_GT(scene.boxes().size(), whole.size());  // the tiles split boxes at their borders
+
+  // Each obstacle voxel lies in exactly one of the scene's boxes (taken back
+  // to voxels), and each box within one tile.
+  std::map<std::array<std::int32_t, 3>, int> covered;
+  const auto tile_of = [](std::int32_t v) {
+    return static_cast<std::int32_t>(std::floor(static_cast<double>(v) / WallScene::kTileColumns));
+  };
+  for (const geometry::OrientedBox& box : scene.boxes()) {
+    const Eigen::Vector3d lo = (box.center - box.half_extents).array() + settings.robot_radius;
+    const Eigen::Vector3d hi = (box.center + box.half_extents).array() - settings.robot_radius;
+    const auto index = [&](double v) { return static_cast<std::int32_t>(std::lround(v / columns.resolution)); };
+    const VoxelBox v{index(lo.x()), index(hi.x()) - 1, index(lo.y()), index(hi.y()) - 1, index(lo.z()), index(hi.z()) - 1};
+    EXPECT_EQ(tile_of(v.x0), tile_of(v.x1));
+    EXPECT_EQ(tile_of(v.y0), tile_of(v.y1));
+    for (std::int32_t vx = v.x0; vx <= v.x1; ++vx) {
+      for (std::int32_t vy = v.y0; vy <= v.y1; ++vy) {
+        for (std::int32_t vz = v.z0; vz <= v.z1; ++vz) ++covered[{vx, vy, vz}];
+      }
+    }
+  }
+  std::map<std::array<std::int32_t, 3>, int> obstacles;
+  for (int cy = 0; cy < columns.height; ++cy) {
+    for (int cx = 0; cx < columns.width; ++cx) {
+      const std::size_t c = columns.column(cx, cy);
+      for (std::uint32_t i = columns.start[c]; i < columns.start[c + 1]; ++i) {
+        if (columns.label[i] == ClassId::Wall || columns.label[i] == ClassId::Other) {
+          obstacles[{columns.x0 + cx, columns.y0 + cy, columns.z[i]}] = 1;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(covered, obstacles);
+
+  const auto lifted = [&](const Eigen::Vector3d& p, double h) { return Eigen::Vector3d(p + Eigen::Vector3d(0, 0, h)); };
+  std::uniform_real_distribution<double> x(-3.5, 6.5), y(-1.0, 2.5);
+  std::size_t clear_stands = 0, compared_drives = 0, blocked_drives = 0;
+  std::vector<StandPair> pairs;
+  for (int k = 0; k < 2000 && pairs.size() < 300; ++k) {
+    const Eigen::Vector3d stand(x(rng), y(rng), 0);
+    double nearest = 1e9;
+    for (const geometry::OrientedBox& box : whole) {
+      for (double h : settings.body_heights) nearest = std::min(nearest, geometry::signed_distance(lifted(stand, h), box));
+    }
+    if (std::abs(nearest - geometry::kSurfaceTolerance) < 1e-6) continue;  // on the tolerance's edge
+    const bool clear = nearest > geometry::kSurfaceTolerance;
+    ASSERT_EQ(scene.clear(stand), clear) << stand.transpose();
+    if (!clear) continue;
+    ++clear_stands;
+    if (k % 2 == 1 && clear_stands > 1) pairs.back().to = stand;
+    else pairs.push_back({stand, stand});
+  }
+  std::vector<std::uint8_t> blocked(pairs.size());
+  scene.blocked(pairs, blocked);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    bool expected = false, near = false;
+    for (const geometry::OrientedBox& box : whole) {
+      for (double h : settings.body_heights) {
+        const geometry::Segment drive{lifted(pairs[i].from, h), lifted(pairs[i].to, h)};
+        expected |= geometry::segment_intersects_box(drive, box);
+        near |= geometry::segment_near_box_surface(drive, box);
+      }
+    }
+    if (near) continue;
+    ++compared_drives;
+    blocked_drives += expected;
+    EXPECT_EQ(blocked[i] != 0, expected) << "drive " << i;
+  }
+  EXPECT_GT(clear_stands, 100u);
+  EXPECT_GT(compared_drives, 100u);
+  EXPECT_GT(blocked_drives, 10u);
+  EXPECT_LT(blocked_drives, compared_drives - 10);
 }
 
 TEST(WallScene, RebuiltSceneEqualsOneMadeAnew) {
