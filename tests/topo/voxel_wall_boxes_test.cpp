@@ -7,31 +7,12 @@
 
 #include <random>
 
+#include "tests/topo/columns_of_labels.hpp"
+
 namespace sarmap::topo {
 namespace {
 
-// Columns from a dense grid of labels (Unknown: no voxel), x fastest, then y, then z.
-VoxelColumns columns_of(const std::vector<ClassId>& labels, int width, int height, int depth, std::int32_t x0,
-                        std::int32_t y0, std::int32_t z0) {
-  VoxelColumns out;
-  out.x0 = x0;
-  out.y0 = y0;
-  out.width = width;
-  out.height = height;
-  out.start.push_back(0);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      for (int z = 0; z < depth; ++z) {
-        const ClassId label = labels[x + width * (y + height * z)];
-        if (label == ClassId::Unknown) continue;
-        out.z.push_back(z0 + z);
-        out.label.push_back(label);
-      }
-      out.start.push_back(static_cast<std::uint32_t>(out.z.size()));
-    }
-  }
-  return out;
-}
+using testing::columns_of;
 
 TEST(VoxelWallBoxes, MergedBoxesHoldExactlyTheObstacleVoxels) {
   constexpr int kWidth = 14, kHeight = 11, kDepth = 9;

@@ -15,6 +15,7 @@
 
 #include "engine/geometry/segment_box.hpp"
 #include "engine/topo/voxel_wall_boxes.hpp"
+#include "tests/topo/columns_of_labels.hpp"
 
 namespace sarmap::topo {
 namespace {
@@ -37,24 +38,7 @@ VoxelColumns random_columns(std::mt19937& rng, int width, int height, std::int32
     at(static_cast<int>(rng() % width), static_cast<int>(rng() % height), static_cast<int>(rng() % kDepth)) =
         choices[rng() % 4];
   }
-  VoxelColumns out;
-  out.resolution = 0.05;
-  out.x0 = x0;
-  out.y0 = y0;
-  out.width = width;
-  out.height = height;
-  out.start.push_back(0);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      for (int z = 0; z < kDepth; ++z) {
-        if (at(x, y, z) == ClassId::Unknown) continue;
-        out.z.push_back(z);
-        out.label.push_back(at(x, y, z));
-      }
-      out.start.push_back(static_cast<std::uint32_t>(out.z.size()));
-    }
-  }
-  return out;
+  return testing::columns_of(labels, width, height, kDepth, x0, y0, 0);
 }
 
 // `count` upright wall segments (and one floor, which is no wall) at random places.
