@@ -40,7 +40,7 @@ TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric
   voxels_.columns(map.resolution(), columns_);
   update_traversability_grid(grid_, columns_, settings_, reread, grid_scratch_);
   if (walls_ == nullptr) walls_ = std::make_unique<WallScene>(settings_);
-  walls_->rebuild(segments, &columns_);
+  walls_->rebuild(segments, &columns_, &reread);
   last_ = TopoUpdate();
   last_.wall_boxes = walls_->boxes().size();
 

@@ -15,6 +15,10 @@ constexpr double kBoxCell = 1.0;
 
 std::int32_t floor_div(std::int32_t a, std::int32_t b) { return a / b - (a % b != 0 && (a < 0) != (b < 0)); }
 
+bool overlaps(const ColumnRect& a, const ColumnRect& b) {
+  return !a.empty() && !b.empty() && a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
+}
+
 std::int64_t box_cell(double v) { return static_cast<std::int64_t>(std::floor(v / kBoxCell)); }
 
 std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
@@ -46,16 +50,19 @@ WallScene::WallScene(const std::vector<const segments::Segment*>& segments, cons
   rebuild(segments, columns);
 }
 
-void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns) {
-  for (geometry::ClassedMesh& mesh : meshes_) {
-    mesh.vertices.clear();
-    mesh.indices.clear();
-  }
+void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
+                        const ColumnRect* changed) {
+  meshes_[0].vertices.clear();
+  meshes_[0].indices.clear();
   boxes_.clear();
   for (const segments::Segment* s : segments) {
-    if (s->label == ClassId::Wall) add_box(0, segment_box(*s, settings_.robot_radius));
+    if (s->label == ClassId::Wall) {
+      boxes_.push_back(segment_box(*s, settings_.robot_radius));
+      geometry::append_box(meshes_[0], boxes_.back());
+    }
   }
   segment_boxes_ = boxes_.size();
+  ++build_;
   if (columns != nullptr && settings_.obstacle_voxels && columns->width > 0 && columns->height > 0) {
     const std::int32_t tx0 = floor_div(columns->x0, kTileColumns);
     const std::int32_t tx1 = floor_div(columns->x0 + columns->width - 1, kTileColumns);
@@ -65,18 +72,42 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
       for (std::int32_t tx = tx0; tx <= tx1; ++tx) {
         const ColumnRect tile{tx * kTileColumns, tx * kTileColumns + kTileColumns - 1, ty * kTileColumns,
                               ty * kTileColumns + kTileColumns - 1};
-        obstacle_runs(*columns, tile, runs_);
-        if (runs_.empty()) continue;
-        merge_runs(runs_, merge_scratch_, voxel_boxes_);
-        // A tile keeps its mesh for the scene's life: unchanged, it is not built again.
-        const auto [at, added] = tile_mesh_.try_emplace(cell_key(tx, ty), static_cast<std::uint32_t>(meshes_.size()));
-        if (added) add_mesh();
-        const std::uint32_t mesh = tile_mesh_.values()[at];
-        reserve_with_headroom(meshes_[mesh].vertices, 8 * voxel_boxes_.size());
-        reserve_with_headroom(meshes_[mesh].indices, 36 * voxel_boxes_.size());
-        for (const VoxelBox& box : voxel_boxes_) add_box(mesh, grown_box(box, columns->resolution, settings_.robot_radius));
+        const std::uint32_t* known = tile_mesh_.find(cell_key(tx, ty));
+        const bool unchanged = changed != nullptr && !overlaps(*changed, tile);
+        if (unchanged && known == nullptr) continue;  // held no boxes, and its columns are as they were
+        if (!unchanged) {
+          obstacle_runs(*columns, tile, runs_);
+          if (runs_.empty()) continue;  // a mesh it had is emptied below, as not seen in this build
+          merge_runs(runs_, merge_scratch_, voxel_boxes_);
+          // A tile keeps its mesh for the scene's life: unchanged, it is not built again.
+          const auto [at, added] =
+              tile_mesh_.try_emplace(cell_key(tx, ty), static_cast<std::uint32_t>(meshes_.size()));
+          if (added) add_mesh();
+          Tile& fresh = tiles_[tile_mesh_.values()[at]];
+          geometry::ClassedMesh& mesh = meshes_[tile_mesh_.values()[at]];
+          fresh.boxes.clear();
+          mesh.vertices.clear();
+          mesh.indices.clear();
+          reserve_with_headroom(mesh.vertices, 8 * voxel_boxes_.size());
+          reserve_with_headroom(mesh.indices, 36 * voxel_boxes_.size());
+          for (const VoxelBox& box : voxel_boxes_) {
+            fresh.boxes.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
+            geometry::append_box(mesh, fresh.boxes.back());
+          }
+          known = &tile_mesh_.values()[at];
+        }
+        Tile& tile_boxes = tiles_[*known];
+        tile_boxes.seen = build_;
+        boxes_.insert(boxes_.end(), tile_boxes.boxes.begin(), tile_boxes.boxes.end());
       }
     }
+  }
+  // Tiles this build did not reach (beyond the columns, or their boxes gone) hold none.
+  for (std::size_t m = 1; m < meshes_.size(); ++m) {
+    if (tiles_[m].seen == build_) continue;
+    tiles_[m].boxes.clear();
+    meshes_[m].vertices.clear();
+    meshes_[m].indices.clear();
   }
 
   // The cells each box's bounding box touches, counted, then listed.
@@ -115,11 +146,7 @@ void WallScene::add_mesh() {
   geometry::ClassedMesh& mesh = meshes_.emplace_back();
   mesh.label = ClassId::Wall;
   mesh.name = "walls";
-}
-
-void WallScene::add_box(std::uint32_t mesh, const geometry::OrientedBox& box) {
-  boxes_.push_back(box);
-  geometry::append_box(meshes_[mesh], box);
+  tiles_.emplace_back();
 }
 
 WallScene::~WallScene() = default;

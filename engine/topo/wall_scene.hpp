@@ -48,8 +48,12 @@ class WallScene {
   // constructor, on the arrays and Embree scene of the last build: the
   // topological map rebuilds its walls at every update, and a whole-map
   // scene's arrays made anew each time fragmented the heap of long runs.
-  // Throws as the constructor does; the scene must not be used after a throw.
-  void rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns);
+  // `changed` (voxel indices), when given, holds every column that differs
+  // from the last build's columns: the tiles it does not meet keep their
+  // boxes. Throws as the constructor does; the scene must not be used after
+  // a throw.
+  void rebuild(const std::vector<const segments::Segment*>& segments, const VoxelColumns* columns,
+               const ColumnRect* changed = nullptr);
 
   // Whether a robot standing here is clear of every (grown) box at each body
   // height, by more than the scene's float tolerance: a place on a box's
@@ -78,12 +82,18 @@ class WallScene {
   FlatKeyMap<std::uint32_t> cell_index_;
   std::vector<std::uint32_t> cell_start_, cell_boxes_;
   void add_mesh();
-  void add_box(std::uint32_t mesh, const geometry::OrientedBox& box);
 
+  // A tile's grown voxel boxes, and the build that last reached it.
+  struct Tile {
+    std::vector<geometry::OrientedBox> boxes;
+    std::uint64_t seen = 0;
+  };
   // Mesh 0 holds the segments' boxes, the others a tile's each (empty while
-  // the tile holds none), numbered in tile_mesh_.
+  // the tile holds none), numbered in tile_mesh_; tiles_ by the same number.
   std::vector<geometry::ClassedMesh> meshes_;
+  std::vector<Tile> tiles_;
   FlatKeyMap<std::uint32_t> tile_mesh_;
+  std::uint64_t build_ = 0;
   // Kept between builds for their storage.
   std::vector<VoxelBox> runs_, voxel_boxes_;
   BoxMergeScratch merge_scratch_;

@@ -204,5 +204,73 @@ TEST(WallScene, RebuiltSceneEqualsOneMadeAnew) {
   }
 }
 
+// The topological map's way: each build told which columns changed since
+// the last (a rectangle of new labels, sometimes all cleared; the extent
+// cropped, the cropped columns counted as changed), the tiles elsewhere kept;
+// boxes and answers as a scene made anew from the same columns.
+TEST(WallScene, RebuiltWhereTheColumnsChangedEqualsOneMadeAnew) {
+  const TopoSettings settings;
+  std::mt19937 rng(21);
+  constexpr int kWidth = 3 * WallScene::kTileColumns + 11, kHeight = 2 * WallScene::kTileColumns + 3, kDepth = 12;
+  const std::int32_t x0 = -WallScene::kTileColumns - 7, y0 = -30;
+  std::vector<ClassId> labels(static_cast<std::size_t>(kWidth) * kHeight * kDepth, ClassId::Unknown);
+  // A voxel in ten holds a wall, one in ten something else, one in ten terrain.
+  const ClassId choices[] = {ClassId::Wall, ClassId::Other, ClassId::Terrain};
+  const auto fill = [&](int xa, int xb, int ya, int yb, bool clear) {
+    for (int z = 0; z < kDepth; ++z) {
+      for (int y = ya; y <= yb; ++y) {
+        for (int x = xa; x <= xb; ++x) {
+          const unsigned pick = rng() % 10;
+          labels[x + kWidth * (y + kHeight * z)] = clear || pick >= 3 ? ClassId::Unknown : choices[pick];
+        }
+      }
+    }
+  };
+  fill(0, kWidth - 1, 0, kHeight - 1, false);
+  WallScene rebuilt(settings);
+  rebuilt.rebuild({}, nullptr);
+  int width = kWidth;
+  for (int round = 0; round < 12; ++round) {
+    ColumnRect changed;
+    if (round == 0) {
+      changed = {x0, x0 + kWidth - 1, y0, y0 + kHeight - 1};  // the first build: everything is new
+    } else if (round == 9) {
+      width = kWidth - WallScene::kTileColumns - 20;  // cropped: its last columns are gone
+      changed = {x0 + width, x0 + kWidth - 1, y0, y0 + kHeight - 1};
+    } else {
+      const int xa = static_cast<int>(rng() % width), ya = static_cast<int>(rng() % kHeight);
+      const int xb = std::min(width - 1, xa + static_cast<int>(rng() % 40)), yb = std::min(kHeight - 1, ya + static_cast<int>(rng() % 40));
+      fill(xa, xb, ya, yb, round % 4 == 3);
+      changed = {x0 + xa, x0 + xb, y0 + ya, y0 + yb};
+    }
+    std::vector<ClassId> cropped(static_cast<std::size_t>(width) * kHeight * kDepth);
+    for (int z = 0; z < kDepth; ++z) {
+      for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < width; ++x) cropped[x + width * (y + kHeight * z)] = labels[x + kWidth * (y + kHeight * z)];
+      }
+    }
+    const VoxelColumns columns = testing::columns_of(cropped, width, kHeight, kDepth, x0, y0, 0);
+    rebuilt.rebuild({}, &columns, &changed);
+    const WallScene anew({}, &columns, settings);
+
+    ASSERT_EQ(rebuilt.boxes().size(), anew.boxes().size()) << "round " << round;
+    for (std::size_t b = 0; b < anew.boxes().size(); ++b) {
+      ASSERT_EQ(rebuilt.boxes()[b].center, anew.boxes()[b].center) << "round " << round << ", box " << b;
+      ASSERT_EQ(rebuilt.boxes()[b].half_extents, anew.boxes()[b].half_extents) << "round " << round << ", box " << b;
+    }
+    std::uniform_real_distribution<double> x(x0 * 0.05, (x0 + kWidth) * 0.05), y(y0 * 0.05, (y0 + kHeight) * 0.05);
+    std::vector<StandPair> pairs(300);
+    for (StandPair& p : pairs) {
+      p.from = {x(rng), y(rng), 0};
+      p.to = p.from + Eigen::Vector3d(x(rng) / 4, y(rng) / 4, 0);
+      EXPECT_EQ(rebuilt.clear(p.from), anew.clear(p.from)) << "round " << round;
+    }
+    std::vector<std::uint8_t> blocked_rebuilt(pairs.size()), blocked_anew(pairs.size());
+    rebuilt.blocked(pairs, blocked_rebuilt);
+    anew.blocked(pairs, blocked_anew);
+    EXPECT_EQ(blocked_rebuilt, blocked_anew) << "round " << round;
+  }
+}
+
 }  // namespace
 }  // namespace sarmap::topo
