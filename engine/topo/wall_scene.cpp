@@ -64,43 +64,7 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
   segment_boxes_ = boxes_.size();
   ++build_;
   if (columns != nullptr && settings_.obstacle_voxels && columns->width > 0 && columns->height > 0) {
-    const std::int32_t tx0 = floor_div(columns->x0, kTileColumns);
-    const std::int32_t tx1 = floor_div(columns->x0 + columns->width - 1, kTileColumns);
-    const std::int32_t ty0 = floor_div(columns->y0, kTileColumns);
-    const std::int32_t ty1 = floor_div(columns->y0 + columns->height - 1, kTileColumns);
-    for (std::int32_t ty = ty0; ty <= ty1; ++ty) {
-      for (std::int32_t tx = tx0; tx <= tx1; ++tx) {
-        const ColumnRect tile{tx * kTileColumns, tx * kTileColumns + kTileColumns - 1, ty * kTileColumns,
-                              ty * kTileColumns + kTileColumns - 1};
-        const std::uint32_t* known = tile_mesh_.find(cell_key(tx, ty));
-        const bool unchanged = changed != nullptr && !overlaps(*changed, tile);
-        if (unchanged && known == nullptr) continue;  // held no boxes, and its columns are as they were
-        if (!unchanged) {
-          obstacle_runs(*columns, tile, runs_);
-          if (runs_.empty()) continue;  // a mesh it had is emptied below, as not seen in this build
-          merge_runs(runs_, merge_scratch_, voxel_boxes_);
-          // A tile keeps its mesh for the scene's life: unchanged, it is not built again.
-          const auto [at, added] =
-              tile_mesh_.try_emplace(cell_key(tx, ty), static_cast<std::uint32_t>(meshes_.size()));
-          if (added) add_mesh();
-          Tile& fresh = tiles_[tile_mesh_.values()[at]];
-          geometry::ClassedMesh& mesh = meshes_[tile_mesh_.values()[at]];
-          fresh.boxes.clear();
-          mesh.vertices.clear();
-          mesh.indices.clear();
-          reserve_with_headroom(mesh.vertices, 8 * voxel_boxes_.size());
-          reserve_with_headroom(mesh.indices, 36 * voxel_boxes_.size());
-          for (const VoxelBox& box : voxel_boxes_) {
-            fresh.boxes.push_back(grown_box(box, columns->resolution, settings_.robot_radius));
-            geometry::append_box(mesh, fresh.boxes.back());
-          }
-          known = &tile_mesh_.values()[at];
-        }
-        Tile& tile_boxes = tiles_[*known];
-        tile_boxes.seen = build_;
-        boxes_.insert(boxes_.end(), tile_boxes.boxes.begin(), tile_boxes.boxes.end());
-      }
-    }
+    add_tile_boxes(*columns, changed);
   }
   // Tiles this build did not reach (beyond the columns, or their boxes gone) hold none.
   for (std::size_t m = 1; m < meshes_.size(); ++m) {
@@ -109,7 +73,55 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
     meshes_[m].vertices.clear();
     meshes_[m].indices.clear();
   }
+  index_cells();
+  if (scene_ == nullptr) {
+    scene_ = std::make_unique<geometry::TriangleScene>(meshes_, geometry::BuildQuality::Low);
+  } else {
+    scene_->rebuild(meshes_);
+  }
+}
 
+void WallScene::add_tile_boxes(const VoxelColumns& columns, const ColumnRect* changed) {
+  const std::int32_t tx0 = floor_div(columns.x0, kTileColumns);
+  const std::int32_t tx1 = floor_div(columns.x0 + columns.width - 1, kTileColumns);
+  const std::int32_t ty0 = floor_div(columns.y0, kTileColumns);
+  const std::int32_t ty1 = floor_div(columns.y0 + columns.height - 1, kTileColumns);
+  for (std::int32_t ty = ty0; ty <= ty1; ++ty) {
+    for (std::int32_t tx = tx0; tx <= tx1; ++tx) {
+      const ColumnRect tile{tx * kTileColumns, tx * kTileColumns + kTileColumns - 1, ty * kTileColumns,
+                            ty * kTileColumns + kTileColumns - 1};
+      const std::uint32_t* known = tile_mesh_.find(cell_key(tx, ty));
+      const bool unchanged = changed != nullptr && !overlaps(*changed, tile);
+      if (unchanged && known == nullptr) continue;  // held no boxes, and its columns are as they were
+      if (!unchanged) {
+        obstacle_runs(columns, tile, runs_);
+        if (runs_.empty()) continue;  // a mesh it had is emptied below, as not seen in this build
+        merge_runs(runs_, merge_scratch_, voxel_boxes_);
+        // A tile keeps its mesh for the scene's life: unchanged, it is not built again.
+        const auto [at, added] =
+            tile_mesh_.try_emplace(cell_key(tx, ty), static_cast<std::uint32_t>(meshes_.size()));
+        if (added) add_mesh();
+        Tile& fresh = tiles_[tile_mesh_.values()[at]];
+        geometry::ClassedMesh& mesh = meshes_[tile_mesh_.values()[at]];
+        fresh.boxes.clear();
+        mesh.vertices.clear();
+        mesh.indices.clear();
+        reserve_with_headroom(mesh.vertices, 8 * voxel_boxes_.size());
+        reserve_with_headroom(mesh.indices, 36 * voxel_boxes_.size());
+        for (const VoxelBox& box : voxel_boxes_) {
+          fresh.boxes.push_back(grown_box(box, columns.resolution, settings_.robot_radius));
+          geometry::append_box(mesh, fresh.boxes.back());
+        }
+        known = &tile_mesh_.values()[at];
+      }
+      Tile& tile_boxes = tiles_[*known];
+      tile_boxes.seen = build_;
+      boxes_.insert(boxes_.end(), tile_boxes.boxes.begin(), tile_boxes.boxes.end());
+    }
+  }
+}
+
+void WallScene::index_cells() {
   // The cells each box's bounding box touches, counted, then listed.
   const auto for_each_cell = [&](const geometry::OrientedBox& box, auto&& visit) {
     // The box's reach in x and y: |axes| times the half extents.
@@ -133,12 +145,6 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
   cell_boxes_.resize(cell_start_.back());
   for (std::uint32_t b = 0; b < boxes_.size(); ++b) {
     for_each_cell(boxes_[b], [&](std::uint64_t key) { cell_boxes_[(*cell_index_.find(key))++] = b; });
-  }
-
-  if (scene_ == nullptr) {
-    scene_ = std::make_unique<geometry::TriangleScene>(meshes_, geometry::BuildQuality::Low);
-  } else {
-    scene_->rebuild(meshes_);
   }
 }
 

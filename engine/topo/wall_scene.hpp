@@ -81,6 +81,11 @@ class WallScene {
   // cells numbered in cell_index_.
   FlatKeyMap<std::uint32_t> cell_index_;
   std::vector<std::uint32_t> cell_start_, cell_boxes_;
+  // Each tile's boxes (merged again where `changed` meets it, or all of them
+  // without it) appended to boxes_, the tiles reached marked with build_.
+  void add_tile_boxes(const VoxelColumns& columns, const ColumnRect* changed);
+  // cell_index_, cell_start_ and cell_boxes_ of boxes_.
+  void index_cells();
   void add_mesh();
 
   // A tile's grown voxel boxes, and the build that last reached it.
