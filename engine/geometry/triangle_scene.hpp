@@ -46,9 +46,9 @@ class TriangleScene {
   // (Embree's two-level index) the build then costs what changed. For a scene
   // rebuilt at every update (the topological map's walls, a mesh per tile):
   // buffers made anew each time leave the allocator holes that long runs pay
-  // for in memory. Throws as the
-  // constructor does; a bad mesh is found before anything changes, but after
-  // an Embree failure the scene must not be traced. Not beside any query.
+  // for in memory. Throws as the constructor does; a bad mesh is found
+  // before anything changes, but after an Embree failure the scene must not
+  // be traced. Not beside any query.
   void rebuild(std::span<const ClassedMesh> meshes);
   ~TriangleScene();
   TriangleScene(const TriangleScene&) = delete;

@@ -36,6 +36,10 @@ VoxelColumns voxel_columns(const metric::MetricMap& map);
 struct ColumnRect {
   std::int32_t x0 = 0, x1 = -1, y0 = 0, y1 = -1;
   bool empty() const { return x0 > x1 || y0 > y1; }
+  // Whether the two share a column.
+  bool meets(const ColumnRect& other) const {
+    return !empty() && !other.empty() && x0 <= other.x1 && other.x0 <= x1 && y0 <= other.y1 && other.y0 <= y1;
+  }
   void include(const ColumnRect& other);
 };
 

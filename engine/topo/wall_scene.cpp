@@ -15,10 +15,6 @@ constexpr double kBoxCell = 1.0;
 
 std::int32_t floor_div(std::int32_t a, std::int32_t b) { return a / b - (a % b != 0 && (a < 0) != (b < 0)); }
 
-bool overlaps(const ColumnRect& a, const ColumnRect& b) {
-  return !a.empty() && !b.empty() && a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
-}
-
 std::int64_t box_cell(double v) { return static_cast<std::int64_t>(std::floor(v / kBoxCell)); }
 
 std::uint64_t cell_key(std::int64_t x, std::int64_t y) {
@@ -91,7 +87,7 @@ void WallScene::add_tile_boxes(const VoxelColumns& columns, const ColumnRect* ch
       const ColumnRect tile{tx * kTileColumns, tx * kTileColumns + kTileColumns - 1, ty * kTileColumns,
                             ty * kTileColumns + kTileColumns - 1};
       const std::uint32_t* known = tile_mesh_.find(cell_key(tx, ty));
-      const bool unchanged = changed != nullptr && !overlaps(*changed, tile);
+      const bool unchanged = changed != nullptr && !changed->meets(tile);
       if (unchanged && known == nullptr) continue;  // held no boxes, and its columns are as they were
       if (!unchanged) {
         obstacle_runs(columns, tile, runs_);

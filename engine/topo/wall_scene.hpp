@@ -6,8 +6,9 @@
 // kTileColumns x kTileColumns columns, a mesh per tile, so that a rebuild
 // builds again only the tiles whose boxes changed (Embree's two-level index);
 // the split keeps the same solid, as a grown box is the box's Minkowski sum
-// with a cube and the union of such sums is the sum of the union. An edge is tested as occluded rays between its
-// two stand points at each of the robot's body heights, in parallel batches.
+// with a cube and the union of such sums is the sum of the union. An edge is
+// tested as occluded rays between its two stand points at each of the robot's
+// body heights, in parallel batches.
 // (The sides of platforms and ramps are not walls here: low at a ramp's foot,
 // they are drops, which the ground profile finds.)
 #pragma once
