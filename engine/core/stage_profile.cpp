@@ -19,16 +19,27 @@ StageProfile::ScopedTimer::~ScopedTimer() {
 
 namespace {
 constexpr double kNoLevel = std::numeric_limits<double>::quiet_NaN();
+
+// Rows of `width` values, one after the other, given one more column
+// (holding `fill`) at the end of each row.
+void add_column(std::vector<double>& rows, std::size_t row_count, std::size_t width, double fill) {
+  std::vector<double> wider(row_count * (width + 1), fill);
+  for (std::size_t r = 0; r < row_count; ++r) {
+    std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(r * width), width,
+                wider.begin() + static_cast<std::ptrdiff_t>(r * (width + 1)));
+  }
+  rows = std::move(wider);
+}
 }  // namespace
 
 void StageProfile::begin_scan() {
-  per_scan_.emplace_back(order_.size(), 0.0);
+  times_.resize(times_.size() + order_.size(), 0.0);
   latency_.push_back(0.0);
-  level_rows_.emplace_back(levels_.size(), kNoLevel);
+  level_values_.resize(level_values_.size() + levels_.size(), kNoLevel);
 }
 
 void StageProfile::set_latency(double seconds) {
-  if (per_scan_.empty()) begin_scan();
+  if (latency_.empty()) begin_scan();
   latency_.back() = seconds;
 }
 
@@ -39,11 +50,16 @@ void StageProfile::append(const StageProfile& scans) {
   for (std::size_t l = 0; l < scans.levels_.size(); ++l) {
     level_index[l] = this->level_index(index[scans.levels_[l].stage], scans.levels_[l].name);
   }
-  for (std::size_t r = 0; r < scans.per_scan_.size(); ++r) {
+  for (std::size_t r = 0; r < scans.scan_count(); ++r) {
     begin_scan();
-    for (std::size_t i = 0; i < scans.per_scan_[r].size(); ++i) per_scan_.back()[index[i]] += scans.per_scan_[r][i];
+    const std::size_t row = scan_count() - 1;
+    for (std::size_t i = 0; i < scans.order_.size(); ++i) {
+      times_[row * order_.size() + index[i]] += scans.time_at(r, i);
+    }
     latency_.back() = scans.latency_[r];
-    for (std::size_t l = 0; l < scans.levels_.size(); ++l) level_rows_.back()[level_index[l]] = scans.level_rows_[r][l];
+    for (std::size_t l = 0; l < scans.levels_.size(); ++l) {
+      level_values_[row * levels_.size() + level_index[l]] = scans.level_at(r, l);
+    }
   }
   for (std::size_t i = 0; i < scans.order_.size(); ++i) {
     for (const auto& [name, value] : scans.counters_[i]) counters_[index[i]][name] += value;
@@ -53,7 +69,7 @@ void StageProfile::append(const StageProfile& scans) {
 double StageProfile::row_latency(std::size_t scan) const {
   if (latency_[scan] > 0) return latency_[scan];
   double sum = 0;
-  for (double v : per_scan_[scan]) sum += v;
+  for (std::size_t i = 0; i < order_.size(); ++i) sum += time_at(scan, i);
   return sum;
 }
 
@@ -61,39 +77,39 @@ std::size_t StageProfile::stage_index(std::string_view stage) {
   for (std::size_t i = 0; i < order_.size(); ++i) {
     if (order_[i] == stage) return i;
   }
+  add_column(times_, scan_count(), order_.size(), 0.0);
   order_.emplace_back(stage);
   counters_.emplace_back();
-  for (auto& row : per_scan_) row.push_back(0.0);
   return order_.size() - 1;
 }
 
 void StageProfile::add_time(std::string_view stage, double seconds) {
   const std::size_t i = stage_index(stage);
-  if (per_scan_.empty()) begin_scan();
-  per_scan_.back()[i] += seconds;
+  if (latency_.empty()) begin_scan();
+  times_[(scan_count() - 1) * order_.size() + i] += seconds;
 }
 
 std::size_t StageProfile::level_index(std::size_t stage, std::string_view level) {
   std::size_t l = 0;
   while (l < levels_.size() && !(levels_[l].stage == stage && levels_[l].name == level)) ++l;
   if (l == levels_.size()) {
+    add_column(level_values_, scan_count(), levels_.size(), kNoLevel);
     levels_.push_back({stage, std::string(level)});
-    for (auto& row : level_rows_) row.push_back(kNoLevel);
   }
   return l;
 }
 
 void StageProfile::set_level(std::string_view stage, std::string_view level, double value) {
   const std::size_t l = level_index(stage_index(stage), level);
-  if (per_scan_.empty()) begin_scan();
-  level_rows_.back()[l] = value;
+  if (latency_.empty()) begin_scan();
+  level_values_[(scan_count() - 1) * levels_.size() + l] = value;
 }
 
 void StageProfile::skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open) {
-  if (row_open && !per_scan_.empty()) {
-    per_scan_.pop_back();
+  if (row_open && !latency_.empty()) {
+    times_.resize(times_.size() - order_.size());
     latency_.pop_back();
-    level_rows_.pop_back();
+    level_values_.resize(level_values_.size() - levels_.size());
   }
   ++skipped_count_;
   if (skipped_.size() < kMaxListedSkips) skipped_.push_back({index, std::string(source), std::string(error)});
@@ -131,15 +147,14 @@ StageProfile::StageStats StageProfile::stats(std::string_view stage) const {
   const auto it = std::find(order_.begin(), order_.end(), stage);
   if (it == order_.end()) return {};
   const auto i = static_cast<std::size_t>(it - order_.begin());
-  std::vector<double> values;
-  values.reserve(per_scan_.size());
-  for (const auto& row : per_scan_) values.push_back(row[i]);
+  std::vector<double> values(scan_count());
+  for (std::size_t r = 0; r < values.size(); ++r) values[r] = time_at(r, i);
   return stats_of(std::move(values));
 }
 
 StageProfile::StageStats StageProfile::latency() const {
-  std::vector<double> values(per_scan_.size());
-  for (std::size_t r = 0; r < per_scan_.size(); ++r) values[r] = row_latency(r);
+  std::vector<double> values(scan_count());
+  for (std::size_t r = 0; r < values.size(); ++r) values[r] = row_latency(r);
   return stats_of(std::move(values));
 }
 
@@ -155,8 +170,8 @@ StageProfile::LevelStats StageProfile::level(std::string_view stage, std::string
   LevelStats s;
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     if (order_[levels_[l].stage] != stage || levels_[l].name != level) continue;
-    for (const auto& row : level_rows_) {
-      const double v = row[l];
+    for (std::size_t r = 0; r < scan_count(); ++r) {
+      const double v = level_at(r, l);
       if (std::isnan(v)) continue;
       s.max = s.scans == 0 ? v : std::max(s.max, v);
       s.last = v;
@@ -217,12 +232,12 @@ std::string StageProfile::json() const {
   const StageStats l = latency();
   j["latency"] = {{"mean_s", l.mean_s}, {"p50_s", l.p50_s}, {"p95_s", l.p95_s}, {"max_s", l.max_s}};
   nlohmann::ordered_json per_scan = nlohmann::ordered_json::array();
-  for (std::size_t scan = 0; scan < per_scan_.size(); ++scan) {
+  for (std::size_t scan = 0; scan < scan_count(); ++scan) {
     nlohmann::ordered_json r;
-    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = per_scan_[scan][i];
+    for (std::size_t i = 0; i < order_.size(); ++i) r[order_[i] + "_s"] = time_at(scan, i);
     r["latency_s"] = row_latency(scan);
     for (std::size_t l = 0; l < levels_.size(); ++l) {
-      const double v = level_rows_[scan][l];
+      const double v = level_at(scan, l);
       if (!std::isnan(v)) r[order_[levels_[l].stage] + "_" + levels_[l].name] = v;
     }
     per_scan.push_back(r);
@@ -241,8 +256,15 @@ void StageProfile::save_state(StateWriter& out) const {
   out.tag("PROF");
   out.put<std::uint64_t>(order_.size());
   for (const std::string& name : order_) out.put_string(name);
-  out.put<std::uint64_t>(per_scan_.size());
-  for (const std::vector<double>& row : per_scan_) out.put_vector(row);
+  // Row by row, each as an array of its own: the layout of earlier checkpoints.
+  const auto put_rows = [&](const std::vector<double>& rows, std::size_t width) {
+    for (std::size_t r = 0; r < scan_count(); ++r) {
+      const auto first = rows.begin() + static_cast<std::ptrdiff_t>(r * width);
+      out.put_vector(std::vector<double>(first, first + static_cast<std::ptrdiff_t>(width)));
+    }
+  };
+  out.put<std::uint64_t>(scan_count());
+  put_rows(times_, order_.size());
   out.put_vector(latency_);
   for (const std::map<std::string, double>& counters : counters_) {
     out.put<std::uint64_t>(counters.size());
@@ -256,7 +278,7 @@ void StageProfile::save_state(StateWriter& out) const {
     out.put<std::uint64_t>(level.stage);
     out.put_string(level.name);
   }
-  for (const std::vector<double>& row : level_rows_) out.put_vector(row);
+  put_rows(level_values_, levels_.size());
   out.put(wall_s_);
   out.put<std::uint64_t>(skipped_.size());
   for (const SkippedScan& s : skipped_) {
@@ -271,13 +293,17 @@ void StageProfile::load_state(StateReader& in) {
   in.expect_tag("PROF");
   std::vector<std::string> order(in.get_count(8));
   for (std::string& name : order) name = in.get_string();
-  std::vector<std::vector<double>> per_scan(in.get_count(8));
-  for (std::vector<double>& row : per_scan) {
-    row = in.get_vector<double>();
+  const std::size_t rows = in.get_count(8);
+  // A row may name fewer stages than the profile (those after it: no time).
+  std::vector<double> times;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::vector<double> row = in.get_vector<double>();
     if (row.size() > order.size()) in.fail("a profile row holds more stages than the profile names");
+    times.insert(times.end(), row.begin(), row.end());
+    times.resize(times.size() + order.size() - row.size(), 0.0);
   }
   std::vector<double> latency = in.get_vector<double>();
-  if (latency.size() != per_scan.size()) in.fail("the profile's latencies do not match its rows");
+  if (latency.size() != rows) in.fail("the profile's latencies do not match its rows");
   std::vector<std::map<std::string, double>> counters(order.size());
   for (std::map<std::string, double>& stage : counters) {
     const std::size_t n = in.get_count(16);
@@ -292,10 +318,11 @@ void StageProfile::load_state(StateReader& in) {
     if (level.stage >= order.size()) in.fail("a profile level names a stage the profile does not");
     level.name = in.get_string();
   }
-  std::vector<std::vector<double>> level_rows(per_scan.size());
-  for (std::vector<double>& row : level_rows) {
-    row = in.get_vector<double>();
+  std::vector<double> level_values;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::vector<double> row = in.get_vector<double>();
     if (row.size() != levels.size()) in.fail("a profile row of levels does not hold one value per level");
+    level_values.insert(level_values.end(), row.begin(), row.end());
   }
   const auto wall_s = in.get<double>();
   std::vector<SkippedScan> skipped(in.get_count(24));
@@ -306,11 +333,11 @@ void StageProfile::load_state(StateReader& in) {
   }
   const auto skipped_count = in.get<std::uint64_t>();
   order_ = std::move(order);
-  per_scan_ = std::move(per_scan);
+  times_ = std::move(times);
   latency_ = std::move(latency);
   counters_ = std::move(counters);
   levels_ = std::move(levels);
-  level_rows_ = std::move(level_rows);
+  level_values_ = std::move(level_values);
   wall_s_ = wall_s;
   skipped_ = std::move(skipped);
   skipped_count_ = static_cast<std::size_t>(skipped_count);

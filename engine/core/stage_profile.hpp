@@ -70,7 +70,7 @@ class StageProfile {
   // Whole-run wall time, I/O included; scans_per_second derives from it.
   void set_wall_seconds(double seconds) { wall_s_ = seconds; }
 
-  std::size_t scan_count() const { return per_scan_.size(); }
+  std::size_t scan_count() const { return latency_.size(); }
   double wall_seconds() const { return wall_s_; }
   // Stage names in the order they were first timed.
   const std::vector<std::string>& stage_names() const { return order_; }
@@ -98,10 +98,18 @@ class StageProfile {
   // The index of a stage's level, added (with no value in any row) if new.
   std::size_t level_index(std::size_t stage, std::string_view level);
   double row_latency(std::size_t scan) const;
+  double time_at(std::size_t scan, std::size_t stage) const { return times_[scan * order_.size() + stage]; }
+  double level_at(std::size_t scan, std::size_t level) const {
+    return level_values_[scan * levels_.size() + level];
+  }
 
+  // The per-scan rows are kept in one array each, row after row, not an
+  // array per scan: small arrays made at every scan and kept for the whole
+  // run sit between the stages' large transient ones and keep the heap
+  // from reusing or returning that space (docs/perf-history.md).
   std::vector<std::string> order_;
-  std::vector<std::vector<double>> per_scan_;  // [scan][stage] seconds
-  std::vector<double> latency_;                // [scan] seconds, 0: the row's sum
+  std::vector<double> times_;    // [scan * stages + stage] seconds
+  std::vector<double> latency_;  // [scan] seconds, 0: the row's sum; one per row
   std::vector<std::map<std::string, double>> counters_;  // [stage]
   // Levels by (stage index, name), in the order first set, and their values
   // per scan, NaN where a scan did not set one.
@@ -110,7 +118,7 @@ class StageProfile {
     std::string name;
   };
   std::vector<Level> levels_;
-  std::vector<std::vector<double>> level_rows_;  // [scan][level], one row per per_scan_ row
+  std::vector<double> level_values_;  // [scan * levels + level]
   double wall_s_ = 0;
   struct SkippedScan {
     std::size_t index;

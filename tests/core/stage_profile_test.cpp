@@ -149,6 +149,38 @@ TEST(StageProfile, LevelsAreKeptPerScanNotSummed) {
   EXPECT_DOUBLE_EQ(k["per_scan"][3]["classify_point_map_bytes"].get<double>(), 7.0);
 }
 
+// Rows are stored one after another in one array: a stage or level first
+// seen late widens every row before it without moving their values.
+TEST(StageProfile, StagesAndLevelsFirstSeenLateLeaveEarlierRowsAsTheyWere) {
+  StageProfile profile;
+  for (int scan = 0; scan < 5; ++scan) {
+    profile.begin_scan();
+    profile.add_time("read", 0.001 * (scan + 1));
+    if (scan >= 2) profile.add_time("metric", 0.01 * (scan + 1));
+    if (scan >= 3) profile.set_level("segment", "bytes", 1000.0 * scan);
+    profile.add_time("topo", 0.1 * (scan + 1));
+    if (scan >= 1) profile.set_level("metric", "map_bytes", 10.0 * scan);
+  }
+  const auto j = nlohmann::json::parse(profile.json());
+  ASSERT_EQ(j["per_scan"].size(), 5u);
+  for (int scan = 0; scan < 5; ++scan) {
+    const auto& row = j["per_scan"][scan];
+    EXPECT_DOUBLE_EQ(row["read_s"].get<double>(), 0.001 * (scan + 1)) << scan;
+    EXPECT_DOUBLE_EQ(row["metric_s"].get<double>(), scan >= 2 ? 0.01 * (scan + 1) : 0.0) << scan;
+    EXPECT_DOUBLE_EQ(row["topo_s"].get<double>(), 0.1 * (scan + 1)) << scan;
+    EXPECT_EQ(row.contains("metric_map_bytes"), scan >= 1) << scan;
+    EXPECT_EQ(row.contains("segment_bytes"), scan >= 3) << scan;
+    if (scan >= 1) EXPECT_DOUBLE_EQ(row["metric_map_bytes"].get<double>(), 10.0 * scan) << scan;
+    if (scan >= 3) EXPECT_DOUBLE_EQ(row["segment_bytes"].get<double>(), 1000.0 * scan) << scan;
+  }
+  EXPECT_DOUBLE_EQ(profile.stats("topo").total_s, 1.5);
+  EXPECT_NEAR(profile.latency().max_s, 0.005 + 0.05 + 0.5, 1e-12);
+  profile.skip_scan(4, "frame 4", "refused", true);
+  EXPECT_EQ(profile.scan_count(), 4u);
+  EXPECT_DOUBLE_EQ(profile.level("segment", "bytes").last, 3000.0);
+  EXPECT_NEAR(profile.stats("read").total_s, 0.010, 1e-12);
+}
+
 TEST(StageProfile, ASkippedScanTakesItsLevelsWithIt) {
   StageProfile profile;
   profile.begin_scan();
