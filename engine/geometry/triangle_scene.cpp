@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <mutex>
 #include <string>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/geometry/float_limits.hpp"
 
@@ -139,11 +141,23 @@ void record_lowest(std::atomic<std::size_t>& lowest, std::size_t i) {
 // Embree allows scenes of one device to be built and traced from any number
 // of threads. Created on first use; a failed creation is tried again next
 // time.
+// Embree's live bytes on the shared device: every allocation and release
+// it reports, from any thread.
+std::atomic<std::int64_t> device_bytes{0};
+
+bool count_device_bytes(void* /*user*/, ssize_t bytes, bool /*post*/) {
+  device_bytes.fetch_add(static_cast<std::int64_t>(bytes), std::memory_order_relaxed);
+  return true;  // never refuse an allocation
+}
+
 RTCDevice shared_device() {
   static std::mutex creating;
   static RTCDevice device = nullptr;
   const std::lock_guard<std::mutex> lock(creating);
-  if (device == nullptr) device = rtcNewDevice(nullptr);
+  if (device == nullptr) {
+    device = rtcNewDevice(nullptr);
+    if (device != nullptr) rtcSetDeviceMemoryMonitorFunction(device, count_device_bytes, nullptr);
+  }
   if (device == nullptr) throw Error(ErrorCode::InvalidData, "Embree: cannot create a device");
   rtcRetainDevice(device);
   return device;
@@ -172,6 +186,14 @@ void* buffer_for(RTCDevice device, RTCBuffer& buffer, std::size_t& capacity, std
 }
 
 }  // namespace
+
+std::size_t embree_bytes() {
+  return static_cast<std::size_t>(std::max<std::int64_t>(0, device_bytes.load(std::memory_order_relaxed)));
+}
+
+std::size_t TriangleScene::memory_bytes() const {
+  return sizeof(Impl) + capacity_bytes(impl_->meshes) + capacity_bytes(labels_) + capacity_bytes(meshes_);
+}
 
 TriangleScene::TriangleScene(std::span<const ClassedMesh> meshes, BuildQuality quality)
     : impl_(std::make_unique<Impl>()) {

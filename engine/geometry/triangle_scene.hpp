@@ -29,6 +29,11 @@ enum class RayBatchMode { Single, Packet16 };
 // (PERF.md, bench/geometry).
 enum class BuildQuality { Low, Medium, High };
 
+// Bytes Embree holds now for every scene of the process (their indices and
+// geometry buffers), as Embree reports them to the shared device's memory
+// monitor; 0 before the first scene.
+std::size_t embree_bytes();
+
 // Every query is const and thread-safe: many threads may trace one scene.
 class TriangleScene {
  public:
@@ -105,6 +110,11 @@ class TriangleScene {
 
   ClassId geometry_label(std::uint32_t geometry) const { return labels_[geometry]; }
   std::size_t geometry_count() const { return labels_.size(); }
+
+  // Bytes this scene holds outside Embree (its tables of geometries), by
+  // capacity. Embree's own part (the index, the geometry buffers) is in
+  // embree_bytes().
+  std::size_t memory_bytes() const;
 
  private:
   struct Impl;

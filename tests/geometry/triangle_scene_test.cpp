@@ -2,7 +2,8 @@
 // the first hit and its class, the ray interval, single rays and packets
 // giving the same hits, bad meshes refused with the mesh's name, scenes
 // (which share one Embree device) built and traced on many threads at once,
-// and a scene rebuilt in place answering as one built anew.
+// a scene rebuilt in place answering as one built anew, and Embree's memory
+// counted while scenes live.
 #include "engine/geometry/triangle_scene.hpp"
 
 #include <gtest/gtest.h>
@@ -74,6 +75,26 @@ TEST(TriangleScene, RaysEmbreeWouldAbortOnAreErrors) {
   EXPECT_THROW(scene.intersect_batch({huge, 0, 0}, directions, 0, inf, t, labels), Error);
   // A far but valid origin still works.
   EXPECT_FALSE(scene.intersect({0, 0, 9e4f}, {0, 1, 0}, 0, inf).hit);
+}
+
+// embree_bytes() follows Embree's memory monitor: a scene's index and
+// buffers while it lives, nothing of it after. Other tests' scenes are gone
+// by now (tests of one binary run one after the other).
+TEST(TriangleScene, EmbreeBytesFollowTheScenesThatLive) {
+  const std::size_t before = embree_bytes();
+  std::size_t one = 0;
+  {
+    const TriangleScene scene(wall_and_box(), BuildQuality::Low);
+    one = embree_bytes();
+    EXPECT_GT(one, before + 2 * 12 * 3 * sizeof(float));  // at least the boxes' vertices
+    std::vector<ClassedMesh> many;
+    for (int i = 0; i < 200; ++i) {
+      many.push_back(labelled(box_mesh(yawed_box({0.5 * i, 0, 0.5}, {0.2, 0.2, 1}, 0)), ClassId::Other, "box"));
+    }
+    const TriangleScene larger(many, BuildQuality::Low);
+    EXPECT_GT(embree_bytes(), one + 200 * 12 * sizeof(std::uint32_t) * 3);  // its triangles' indices at least
+  }
+  EXPECT_EQ(embree_bytes(), before);
 }
 
 TEST(TriangleScene, SingleRaysAndPacketsGiveTheSameHits) {
