@@ -15,6 +15,7 @@
 #include "engine/core/error.hpp"
 #include "engine/core/prefetched_key_walk.hpp"
 #include "engine/core/wake_workers.hpp"
+#include "engine/geometry/triangle_scene.hpp"
 #include "engine/metric/voxel_key.hpp"
 #include "engine/pipeline/voxel_classes_from_point_map.hpp"
 
@@ -204,6 +205,7 @@ void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& 
                 {"merged", u.merged},
                 {"removed", u.removed}});
   }
+  profile.set_level("segment", "bytes", static_cast<double>(segments_.memory_bytes()));
   {
     const auto timer = profile.time("topo");
     // The scan changed voxels only between its origin and its points.
@@ -221,6 +223,9 @@ void Mapper::maps_half(Scan& scan, std::uint64_t classify_number, StageProfile& 
                 {"rejected_steep", u.rejected_steep},
                 {"rejected_unknown", u.rejected_unknown}});
   }
+  // Embree's part apart: its device serves every scene of the process.
+  profile.set_level("topo", "bytes", static_cast<double>(topo_.memory_bytes()));
+  profile.set_level("topo", "embree_bytes", static_cast<double>(geometry::embree_bytes()));
   {
     const auto timer = profile.time("semantic_points");
     profile.add_count("semantic_points", "points_kept", static_cast<double>(keep_semantic_points(scan.points)));

@@ -8,6 +8,7 @@
 
 #include "engine/core/classes.hpp"
 #include "engine/core/error.hpp"
+#include "engine/geometry/triangle_scene.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/run_folder.hpp"
 #include "engine/metric/map_summary.hpp"
@@ -95,7 +96,10 @@ Json run_summary_json(const Mapper& mapper) {
   std::array<std::size_t, kClassCount> segments_by_class{};
   const std::vector<const segments::Segment*> segments = mapper.segment_map().segments();
   for (const segments::Segment* s : segments) ++segments_by_class[static_cast<std::size_t>(s->label)];
-  j["segments"] = {{"count", segments.size()}, {"by_class", by_class(segments_by_class)}};
+  j["segments"] = {{"count", segments.size()},
+                   {"by_class", by_class(segments_by_class)},
+                   {"points", mapper.segment_map().point_count()},
+                   {"bytes", mapper.segment_map().memory_bytes()}};
 
   const topo::TopoMap& topo = mapper.topo_map();
   std::size_t nodes = 0, tree_edges = 0;
@@ -105,7 +109,9 @@ Json run_summary_json(const Mapper& mapper) {
   j["topo_map"] = {{"nodes", nodes},
                    {"roadmap_edges", topo.edges().size()},
                    {"tree_edges", tree_edges},
-                   {"components", nodes - tree_edges}};
+                   {"components", nodes - tree_edges},
+                   {"bytes", topo.memory_bytes()},
+                   {"embree_bytes", geometry::embree_bytes()}};
   return j;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/metres_text.hpp"
 
 namespace sarmap::segments {
@@ -78,6 +79,12 @@ void LabelledVoxels::set_label(std::uint32_t i, ClassId l) {
   v.fill(0);
   v[static_cast<std::size_t>(l)] = std::max<std::uint16_t>(most, 1);
   label[i] = static_cast<std::uint8_t>(l);
+}
+
+std::size_t LabelledVoxels::memory_bytes() const {
+  return capacity_bytes(x) + capacity_bytes(y) + capacity_bytes(z) + capacity_bytes(range) + capacity_bytes(scan) +
+         capacity_bytes(label) + capacity_bytes(owner) + capacity_bytes(pending) + capacity_bytes(rounds) +
+         capacity_bytes(votes_) + index_.memory_bytes();
 }
 
 std::vector<std::uint32_t> LabelledVoxels::keep_only(const std::vector<std::uint8_t>& keep) {

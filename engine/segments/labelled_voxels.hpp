@@ -32,6 +32,8 @@ class LabelledVoxels {
   // The voxel's edge, metres (a millimetre for voxel 0).
   double voxel() const { return 1.0 / inverse_voxel_; }
   std::size_t size() const { return x.size(); }
+  // Bytes held: every column, the votes and the key index, by capacity.
+  std::size_t memory_bytes() const;
 
   // The voxel holding p (nullopt beyond reach or for NaN), as a packed key.
   std::optional<std::uint64_t> key_of(const Eigen::Vector3d& p) const;

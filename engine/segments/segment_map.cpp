@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/prefetched_key_walk.hpp"
 #include "engine/segments/plane_extraction.hpp"
@@ -667,6 +668,15 @@ std::vector<const Segment*> SegmentMap::segments() const {
     if (r.alive) out.push_back(&r.view);
   }
   return out;
+}
+
+std::size_t SegmentMap::memory_bytes() const {
+  std::size_t bytes = voxels_.memory_bytes() + capacity_bytes(origins_) + capacity_bytes(queued_in_) +
+                      capacity_bytes(marks_) + capacity_bytes(records_) + capacity_bytes(merged_into_) +
+                      capacity_bytes(merges_);
+  for (const Record& r : records_) bytes += capacity_bytes(r.members) + capacity_bytes(r.outline) + capacity_bytes(r.left);
+  for (const auto& list : pending_) bytes += capacity_bytes(list);
+  return bytes;
 }
 
 std::size_t SegmentMap::size() const {

@@ -113,6 +113,12 @@ class SegmentMap {
 
   // Thinned points held (all classes).
   std::size_t point_count() const { return voxels_.size(); }
+  // Bytes the map holds: its stored points with their votes and key index,
+  // every segment's record (members and outline included), the pending
+  // lists and the per-point and per-scan arrays, by capacity. The segment
+  // stage's per-map state, reported beside the metric map's (profile.json,
+  // summary.json): one point per 2.5 cm voxel of every labelled surface.
+  std::size_t memory_bytes() const;
   // Points waiting for a plane search, per class id.
   std::array<std::size_t, kClassCount> pending_counts() const;
 

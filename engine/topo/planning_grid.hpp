@@ -10,6 +10,8 @@
 
 #include <Eigen/Core>
 
+#include "engine/core/capacity_bytes.hpp"
+
 namespace sarmap::topo {
 
 enum class CellState : std::uint8_t { Free = 0, Occupied = 1, Unknown = 2 };
@@ -51,6 +53,8 @@ class PlanningGrid {
   void set(GridCell cell, CellState state) { cells_[index_of(cell)] = state; }
   std::span<const CellState> cells() const { return cells_; }
   std::span<CellState> cells() { return cells_; }
+  // Bytes held, by capacity (reset() keeps room beyond the cells).
+  std::size_t memory_bytes() const { return capacity_bytes(cells_); }
 
   // The cell whose square holds the point (lower and left edges belong to
   // the cell). May lie outside the grid: check with contains().

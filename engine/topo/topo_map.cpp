@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/flat_key_map.hpp"
 #include "engine/topo/spanning_forest.hpp"
 
@@ -30,6 +31,12 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 TopoMap::TopoMap(const TopoSettings& settings) : settings_(settings) { validate(settings_); }
 TopoMap::~TopoMap() = default;
+
+std::size_t TopoMap::memory_bytes() const {
+  return capacity_bytes(nodes_) + capacity_bytes(edges_) + grid_.memory_bytes() + voxels_.memory_bytes() +
+         columns_.memory_bytes() + grid_scratch_.memory_bytes() +
+         (walls_ ? sizeof(WallScene) + walls_->memory_bytes() : 0);
+}
 TopoMap::TopoMap(TopoMap&&) noexcept = default;
 TopoMap& TopoMap::operator=(TopoMap&&) noexcept = default;
 

@@ -92,6 +92,12 @@ class TopoMap {
   // The wall scene of the last update; nullptr before the first.
   const WallScene* walls() const { return walls_.get(); }
 
+  // Bytes the map holds outside Embree: nodes, edges, the grid, the cached
+  // voxel columns, the wall scene and the arrays kept between updates, by
+  // capacity (the wall scene's Embree index: geometry::embree_bytes()). The
+  // topo stage's per-map state, reported beside the metric map's.
+  std::size_t memory_bytes() const;
+
   // Whether a straight drive between two stand points passes (walls, drops,
   // climbs, unknown ground), with the ground it crosses.
   GroundProfile check_drive(const Eigen::Vector3d& from, const Eigen::Vector3d& to) const;

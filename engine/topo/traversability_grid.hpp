@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/topo/voxel_columns.hpp"
 #include "engine/topo/planning_grid.hpp"
@@ -34,6 +36,10 @@ struct TraversabilityGrid {
   float ground_at(GridCell cell) const {
     return grid.contains(cell) ? ground[grid.index_of(cell)] : std::nanf("");
   }
+  // Bytes held, by capacity.
+  std::size_t memory_bytes() const {
+    return grid.memory_bytes() + capacity_bytes(ground) + capacity_bytes(ground_class) + capacity_bytes(near_drop);
+  }
 };
 
 // Cells are the columns' extent; no occupied voxel gives a 1 x 1 unknown grid
@@ -48,6 +54,11 @@ struct TraversabilityScratch {
   std::vector<CellState> seen, state;
   std::vector<float> ground;
   std::vector<ClassId> ground_class;
+
+  std::size_t memory_bytes() const {
+    return spare.memory_bytes() + capacity_bytes(seen) + capacity_bytes(state) + capacity_bytes(ground) +
+           capacity_bytes(ground_class);
+  }
 };
 
 // Brings a grid that traversability_grid() (or this) made with the same

@@ -202,6 +202,14 @@ VoxelColumns OccupiedVoxelCache::columns(double resolution) const {
   return out;
 }
 
+std::size_t OccupiedVoxelCache::memory_bytes() const {
+  std::size_t bytes = capacity_bytes(columns_) + capacity_bytes(slot_);
+  for (const BlockColumn& c : columns_) {
+    bytes += capacity_bytes(c.block_z) + capacity_bytes(c.z) + capacity_bytes(c.label) + capacity_bytes(c.now);
+  }
+  return bytes;
+}
+
 void OccupiedVoxelCache::columns(double resolution, VoxelColumns& out) const {
   out.resolution = resolution;
   out.x0 = out.y0 = 0;

@@ -4,10 +4,12 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/bounds.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/metric/metric_map.hpp"
@@ -25,6 +27,8 @@ struct VoxelColumns {
   std::vector<ClassId> label;
 
   bool empty() const { return z.empty(); }
+  // Bytes held, by capacity.
+  std::size_t memory_bytes() const { return capacity_bytes(start) + capacity_bytes(z) + capacity_bytes(label); }
   std::size_t column(int x, int y) const { return static_cast<std::size_t>(x) + static_cast<std::size_t>(width) * y; }
 };
 
@@ -60,6 +64,8 @@ class OccupiedVoxelCache {
   // arrays grow with the map, and new ones at every update would leave the
   // allocator holes a little too small for the next.
   void columns(double resolution, VoxelColumns& out) const;
+  // Bytes held: every column of blocks' voxels and the block index, by capacity.
+  std::size_t memory_bytes() const;
 
  private:
   using Block = metric::MetricMap::Blocks::Block;

@@ -5,10 +5,12 @@
 // scene is rebuilt at every update, so its build time follows the box count.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/flat_key_map.hpp"
 #include "engine/geometry/oriented_box.hpp"
 #include "engine/topo/voxel_columns.hpp"
@@ -36,6 +38,8 @@ void obstacle_runs(const VoxelColumns& columns, const ColumnRect& within, std::v
 struct BoxMergeScratch {
   std::vector<VoxelBox> strips;
   FlatKeyMap<std::uint32_t> open;
+
+  std::size_t memory_bytes() const { return capacity_bytes(strips) + open.memory_bytes(); }
 };
 
 // The same voxels in fewer boxes: runs merged along x where neighbouring

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <span>
 
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/vector_headroom.hpp"
 #include "engine/geometry/segment_box.hpp"
@@ -152,6 +153,17 @@ void WallScene::add_mesh() {
 }
 
 WallScene::~WallScene() = default;
+
+std::size_t WallScene::memory_bytes() const {
+  std::size_t bytes = capacity_bytes(boxes_) + cell_index_.memory_bytes() + capacity_bytes(cell_start_) +
+                      capacity_bytes(cell_boxes_) + capacity_bytes(meshes_) + capacity_bytes(tiles_) +
+                      tile_mesh_.memory_bytes() + capacity_bytes(runs_) + capacity_bytes(voxel_boxes_) +
+                      merge_scratch_.memory_bytes();
+  for (const geometry::ClassedMesh& m : meshes_) bytes += capacity_bytes(m.vertices) + capacity_bytes(m.indices);
+  for (const Tile& t : tiles_) bytes += capacity_bytes(t.boxes);
+  if (scene_) bytes += sizeof(geometry::TriangleScene) + scene_->memory_bytes();
+  return bytes;
+}
 
 bool WallScene::clear(const Eigen::Vector3d& stand) const {
   const std::uint32_t cell = cell_index_.index_of(cell_key(box_cell(stand.x()), box_cell(stand.y())));

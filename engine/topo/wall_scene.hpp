@@ -72,6 +72,11 @@ class WallScene {
   const std::vector<geometry::OrientedBox>& boxes() const { return boxes_; }
   std::size_t segment_boxes() const { return segment_boxes_; }
 
+  // Bytes held outside Embree: the boxes, tiles, meshes, cell index and the
+  // arrays kept between builds, by capacity (Embree's part:
+  // geometry::embree_bytes()).
+  std::size_t memory_bytes() const;
+
  private:
   TopoSettings settings_;
   std::vector<geometry::OrientedBox> boxes_;

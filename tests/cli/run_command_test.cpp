@@ -127,7 +127,8 @@ TEST_F(RunCommand, WritesEveryOutput) {
   for (const auto& [name, value] : profile.at("per_scan").at(0).items()) row.push_back(name);
   EXPECT_EQ(row, (std::vector<std::string>{"read_s", "preprocess_s", "classify_s", "metric_s", "segment_s", "topo_s",
                                            "semantic_points_s", "latency_s", "metric_map_bytes",
-                                           "metric_integrator_scratch_bytes", "semantic_points_bytes"}));
+                                           "metric_integrator_scratch_bytes", "segment_bytes", "topo_bytes",
+                                           "topo_embree_bytes", "semantic_points_bytes"}));
   // A scan's latency covers at least its own stages.
   for (const auto& scan : profile.at("per_scan")) {
     double stages_s = 0;
@@ -183,6 +184,14 @@ TEST_F(RunCommand, WritesEveryOutput) {
             profile.at("stages").at("semantic_points").at("bytes").get<double>());
   EXPECT_EQ(summary.at("segments").at("count").get<int>(), 0);
   EXPECT_EQ(summary.at("topo_map").at("nodes").get<int>(), 0);
+  // The segment and topological maps' bytes beside the metric map's: the
+  // run's after its last scan, as profile.json has them.
+  EXPECT_EQ(summary.at("segments").at("points").get<int>(), 5);
+  EXPECT_EQ(summary.at("segments").at("bytes").get<double>(),
+            profile.at("stages").at("segment").at("bytes").get<double>());
+  EXPECT_GT(summary.at("segments").at("bytes").get<double>(), 0.0);
+  EXPECT_EQ(summary.at("topo_map").at("bytes").get<double>(), profile.at("stages").at("topo").at("bytes").get<double>());
+  EXPECT_GT(summary.at("topo_map").at("bytes").get<double>(), 0.0);
 }
 
 // semantic_points.ply and voxels.ply carry red, green and blue from the one

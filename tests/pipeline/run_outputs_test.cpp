@@ -163,6 +163,8 @@ TEST(WriteRun, SummaryHoldsTheMappersOwnFigures) {
   EXPECT_GT(mapper.segment_map().size(), 0u);
   EXPECT_EQ(summary.at("segments").at("count"), mapper.segment_map().size());
   EXPECT_EQ(segments, mapper.segment_map().size());
+  EXPECT_EQ(summary.at("segments").at("points"), mapper.segment_map().point_count());
+  EXPECT_EQ(summary.at("segments").at("bytes"), mapper.segment_map().memory_bytes());
 
   std::size_t nodes = 0, tree = 0;
   for (const topo::TopoNode& n : mapper.topo_map().nodes()) nodes += n.alive;
@@ -173,6 +175,9 @@ TEST(WriteRun, SummaryHoldsTheMappersOwnFigures) {
   EXPECT_EQ(topo_map.at("roadmap_edges"), mapper.topo_map().edges().size());
   EXPECT_EQ(topo_map.at("tree_edges"), tree);
   EXPECT_EQ(topo_map.at("components"), nodes - tree);
+  EXPECT_EQ(topo_map.at("bytes"), mapper.topo_map().memory_bytes());
+  // The wall scene's Embree index and buffers, live while the topological map is.
+  EXPECT_GT(topo_map.at("embree_bytes").get<std::size_t>(), 0u);
 }
 
 TEST(AddToRunSummary, AddsAMemberAndCommitsTheFolderAgain) {
