@@ -25,7 +25,6 @@ struct TriangleScene::Impl {
   struct MeshGeometry {
     RTCGeometry geometry = nullptr;
     unsigned id = 0;
-    bool enabled = false;
     RTCBuffer vertices = nullptr, indices = nullptr;
     std::size_t vertex_capacity = 0, triangle_capacity = 0;
     std::size_t vertex_count = 0, triangle_count = 0;  // of the mesh in the buffers
@@ -35,6 +34,18 @@ struct TriangleScene::Impl {
   RTCScene scene = nullptr;
   RTCBuildQuality quality = RTC_BUILD_QUALITY_HIGH;
   std::vector<MeshGeometry> meshes;  // by mesh index
+
+  // Detaches a mesh's geometry from the scene (Embree gives its id to the
+  // next geometry attached) and lets go of it and its buffers.
+  void release(MeshGeometry& m) {
+    if (m.geometry) {
+      rtcDetachGeometry(scene, m.id);
+      rtcReleaseGeometry(m.geometry);
+    }
+    if (m.vertices) rtcReleaseBuffer(m.vertices);
+    if (m.indices) rtcReleaseBuffer(m.indices);
+    m = MeshGeometry{};
+  }
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     for (MeshGeometry& m : meshes) {
@@ -216,8 +227,10 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
   for (std::size_t mesh_index = 0; mesh_index < impl_->meshes.size(); ++mesh_index) {
     Impl::MeshGeometry& slot = impl_->meshes[mesh_index];
     if (mesh_index >= meshes.size() || meshes[mesh_index].indices.empty()) {
-      if (slot.enabled) rtcDisableGeometry(slot.geometry);
-      slot.enabled = false;
+      // Its geometry and buffers are let go, so that the scene's memory
+      // follows the meshes it holds (a wall scene's tiles whose walls a
+      // bounded map forgot), at the price of new ones if it fills again.
+      impl_->release(slot);
       continue;
     }
     const ClassedMesh& m = meshes[mesh_index];
@@ -231,7 +244,6 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
       // a Low scene would otherwise still pay for a Medium build.
       rtcSetGeometryBuildQuality(slot.geometry, impl_->quality);
       slot.id = rtcAttachGeometry(impl_->scene, slot.geometry);
-      slot.enabled = true;
       if (slot.id >= labels_.size()) {
         labels_.resize(slot.id + 1, ClassId::Unknown);
         meshes_.resize(slot.id + 1, 0);
@@ -243,7 +255,7 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
     static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "vertices compared as packed floats");
     // An unchanged mesh keeps its BVH: in a Low-quality scene (two levels)
     // only the geometries committed since the last build are built again.
-    if (slot.enabled && slot.vertex_count == vertex_count && slot.triangle_count == triangle_count &&
+    if (slot.vertex_count == vertex_count && slot.triangle_count == triangle_count &&
         std::memcmp(rtcGetBufferData(slot.vertices), m.vertices.data(), vertex_count * 3 * sizeof(float)) == 0 &&
         std::memcmp(rtcGetBufferData(slot.indices), m.indices.data(), triangle_count * 3 * sizeof(unsigned)) == 0) {
       continue;
@@ -264,8 +276,6 @@ void TriangleScene::rebuild(std::span<const ClassedMesh> meshes) {
                          3 * sizeof(unsigned), triangle_count);
     slot.vertex_count = vertex_count;
     slot.triangle_count = triangle_count;
-    if (!slot.enabled) rtcEnableGeometry(slot.geometry);
-    slot.enabled = true;
     rtcCommitGeometry(slot.geometry);
   }
   rtcCommitScene(impl_->scene);

@@ -106,6 +106,10 @@ void OccupiedVoxelCache::cover(std::int32_t bx0, std::int32_t bx1, std::int32_t 
   by0_ = by0;
   bwidth_ = bx1 - bx0 + 1;
   bheight_ = by1 - by0 + 1;
+  index_columns();
+}
+
+void OccupiedVoxelCache::index_columns() {
   slot_.assign(static_cast<std::size_t>(bwidth_) * static_cast<std::size_t>(bheight_), -1);
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     slot_[static_cast<std::size_t>(columns_[i].bx - bx0_) +
@@ -192,6 +196,15 @@ ColumnRect OccupiedVoxelCache::refresh(const metric::MetricMap& map, const Bound
     }
     column.now.clear();
     column.met = false;
+  }
+  // Columns whose blocks the map has all forgotten (a bounded map's, with
+  // --max-blocks or --keep-radius) are let go, so that the cache's memory
+  // follows the map's instead of the area ever seen. Their voxels' absence
+  // is in `reread` already.
+  const auto forgotten = [](const BlockColumn& column) { return column.block_z.empty(); };
+  if (std::any_of(columns_.begin(), columns_.end(), forgotten)) {
+    std::erase_if(columns_, forgotten);
+    index_columns();
   }
   return reread;
 }

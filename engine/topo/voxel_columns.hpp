@@ -87,8 +87,10 @@ class OccupiedVoxelCache {
   void read(const metric::MetricMap& map, BlockColumn& column);
   // Makes the block index cover block columns [bx0, bx1] x [by0, by1].
   void cover(std::int32_t bx0, std::int32_t bx1, std::int32_t by0, std::int32_t by1);
+  // slot_ of columns_ as they are now.
+  void index_columns();
 
-  std::vector<BlockColumn> columns_;  // every column of blocks that ever held a block
+  std::vector<BlockColumn> columns_;  // every column of blocks that holds a block of the map
   // Dense over the block columns' extent: index into columns_, or -1.
   std::vector<std::int32_t> slot_;
   std::int32_t bx0_ = 0, by0_ = 0, bwidth_ = 0, bheight_ = 0;

@@ -63,12 +63,15 @@ void WallScene::rebuild(const std::vector<const segments::Segment*>& segments, c
   if (columns != nullptr && settings_.obstacle_voxels && columns->width > 0 && columns->height > 0) {
     add_tile_boxes(*columns, changed);
   }
-  // Tiles this build did not reach (beyond the columns, or their boxes gone) hold none.
+  // Tiles this build did not reach (beyond the columns, or their boxes gone)
+  // hold none, and no storage: their region's walls are gone (a bounded
+  // map's forgotten blocks), and kept storage would grow with the area ever
+  // seen. The scene lets go of their geometries (TriangleScene::rebuild).
   for (std::size_t m = 1; m < meshes_.size(); ++m) {
     if (tiles_[m].seen == build_) continue;
-    tiles_[m].boxes.clear();
-    meshes_[m].vertices.clear();
-    meshes_[m].indices.clear();
+    release_storage(tiles_[m].boxes);
+    release_storage(meshes_[m].vertices);
+    release_storage(meshes_[m].indices);
   }
   index_cells();
   if (scene_ == nullptr) {
