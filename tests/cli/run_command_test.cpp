@@ -424,12 +424,23 @@ TEST_F(RunCommand, MapBoundsLimitTheSavedMap) {
   const std::size_t budget = all_blocks / 2;
   r = run(" --max-blocks " + std::to_string(budget) + " --keep-radius 50", dir_ / "bounded");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("within --keep-radius 50 m and --max-blocks " + std::to_string(budget) + "\n"),
+            std::string::npos)
+      << r.err;
   EXPECT_LE(metric::load_map(dir_ / "bounded" / "map.sarmap").blocks().block_count(), budget);
   const auto profile = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "profile.json"));
   EXPECT_GT(profile.at("stages").at("metric").at("blocks_dropped").get<double>(), 0.0);
   const auto manifest = nlohmann::json::parse(test::read_all(dir_ / "bounded" / "manifest.json"));
   EXPECT_EQ(manifest.at("config").at("bounds").at("max_blocks").get<std::size_t>(), budget);
   EXPECT_DOUBLE_EQ(manifest.at("config").at("bounds").at("keep_radius").get<double>(), 50.0);
+
+  // A radius alone: the warning names it (and the default budget, which bounds the map too).
+  r = run(" --keep-radius 0.5", dir_ / "radius");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("within --keep-radius 0.5 m and --max-blocks "), std::string::npos) << r.err;
+  r = run(" --keep-radius 0.5 --max-blocks 0", dir_ / "radius_only");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("within --keep-radius 0.5 m\n"), std::string::npos) << r.err;
 
   r = run(" --keep-radius -2", dir_ / "negative");
   EXPECT_NE(r.exit_code, 0);

@@ -295,9 +295,16 @@ RunSummary run_pipeline(const RunOptions& o) {
     std::fprintf(stderr, "sarmap: warning: no snapshot after %zu scans: the run mapped %zu\n", *next_snapshot, scans);
   }
   if (mapper.blocks_dropped() > 0) {
+    // Both bounds named when both are set (the block budget always is, unless
+    // 0): the Mapper does not count which one dropped a block.
+    char radius[64];
+    std::snprintf(radius, sizeof radius, "--keep-radius %g m", o.keep_radius);
+    const std::string budget = "--max-blocks " + std::to_string(o.max_blocks);
+    const std::string bounds = o.keep_radius > 0 && o.max_blocks > 0 ? std::string(radius) + " and " + budget
+                               : o.keep_radius > 0                   ? std::string(radius)
+                                                                     : budget;
     std::fprintf(stderr, "sarmap: warning: %zu map blocks were forgotten to keep the map within %s\n",
-                 mapper.blocks_dropped(),
-                 o.max_blocks > 0 ? ("--max-blocks " + std::to_string(o.max_blocks)).c_str() : "--keep-radius");
+                 mapper.blocks_dropped(), bounds.c_str());
   }
   if (!o.quiet) {
     if (skipped.count() > 0) std::printf("%zu scans skipped (profile.json lists them)\n", skipped.count());
