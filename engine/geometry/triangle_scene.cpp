@@ -21,7 +21,8 @@ namespace sarmap::geometry {
 
 struct TriangleScene::Impl {
   // One mesh's Embree geometry and the buffers behind it, kept between
-  // rebuilds; the buffers hold some room beyond their items.
+  // rebuilds while the mesh holds triangles; the buffers hold some room
+  // beyond their items.
   struct MeshGeometry {
     RTCGeometry geometry = nullptr;
     unsigned id = 0;

@@ -48,7 +48,8 @@ class TriangleScene {
   // geometries and buffers of the last build where they hold the new meshes
   // (buffers grow with half again as much room). A mesh equal to the one
   // at its index in the last build is not built again: in a Low-quality scene
-  // (Embree's two-level index) the build then costs what changed. For a scene
+  // (Embree's two-level index) the build then costs what changed. An empty
+  // or missing mesh gives back its geometry and buffers. For a scene
   // rebuilt at every update (the topological map's walls, a mesh per tile):
   // buffers made anew each time leave the allocator holes that long runs pay
   // for in memory. Throws as the constructor does; a bad mesh is found
