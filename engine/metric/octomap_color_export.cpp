@@ -37,10 +37,27 @@ struct NodeValue {
 // so a reader that never recomputes inner nodes still sees a consistent tree.
 class ColorTreeWriter {
  public:
-  explicit ColorTreeWriter(const std::vector<Leaf>& leaves) : leaves_(leaves) {}
+  // Nodes are appended to `data`.
+  ColorTreeWriter(const std::vector<Leaf>& leaves, std::string& data) : data(data), leaves_(leaves) {}
 
-  std::string data;
+  std::string& data;
   std::size_t nodes = 0;
+
+  // The nodes write_node(begin, end, bit) writes, written nowhere: so that
+  // the file's bytes can be reserved whole (a string grown by doubling held
+  // up to three times the tree at the end of a building-sized run).
+  std::size_t count_nodes(std::size_t begin, std::size_t end, int bit) const {
+    if (bit < 0 || uniform_and_full(begin, end, bit)) return 1;
+    std::size_t count = 1;
+    for (std::size_t child_begin = begin; child_begin < end;) {
+      const std::uint64_t c = (leaves_[child_begin].code >> (3 * bit)) & 7u;
+      std::size_t child_end = child_begin;
+      while (child_end < end && ((leaves_[child_end].code >> (3 * bit)) & 7u) == c) ++child_end;
+      count += count_nodes(child_begin, child_end, bit - 1);
+      child_begin = child_end;
+    }
+    return count;
+  }
 
   // Writes the node covering leaves_[begin, end), whose children split on key
   // bit `bit` (-1: a single voxel).
@@ -114,6 +131,7 @@ class ColorTreeWriter {
 
 std::string octomap_color_tree(const MetricMap& map, std::size_t* node_count) {
   std::vector<Leaf> leaves;
+  leaves.reserve(map.counts().known);
   const OccupancyModel& occ = map.occupancy();
   map.blocks().for_each_block([&](const BlockKey& bk, const MetricMap::Blocks::Block& block) {
     for (int l = 0; l < kBlockVoxels; ++l) {
@@ -127,9 +145,10 @@ std::string octomap_color_tree(const MetricMap& map, std::size_t* node_count) {
     }
   });
   std::sort(leaves.begin(), leaves.end(), [](const Leaf& a, const Leaf& b) { return a.code < b.code; });
-  ColorTreeWriter tree(leaves);
-  if (!leaves.empty()) tree.write_node(0, leaves.size(), octomap_keys::kTreeDepth - 1);
-  if (node_count) *node_count = tree.nodes;
+  std::string bytes;
+  ColorTreeWriter tree(leaves, bytes);
+  const int top_bit = octomap_keys::kTreeDepth - 1;
+  const std::size_t nodes = leaves.empty() ? 0 : tree.count_nodes(0, leaves.size(), top_bit);
   std::ostringstream header;
   header.precision(17);  // the resolution must read back as the same double
   header << "# Octomap OcTree file\n"
@@ -137,10 +156,15 @@ std::string octomap_color_tree(const MetricMap& map, std::size_t* node_count) {
          << "#\n"
          << "# written by sarmap: occupied voxels in their class colour, free ones white (no colour)\n"
          << "id ColorOcTree\n"
-         << "size " << tree.nodes << "\n"
+         << "size " << nodes << "\n"
          << "res " << map.resolution() << "\n"
          << "data\n";
-  return header.str() + tree.data;
+  const std::string head = header.str();
+  bytes.reserve(head.size() + 8 * nodes);
+  bytes.append(head);
+  if (!leaves.empty()) tree.write_node(0, leaves.size(), top_bit);
+  if (node_count) *node_count = tree.nodes;
+  return bytes;
 }
 
 void write_octomap_ot(const MetricMap& map, const std::filesystem::path& path) {
