@@ -48,12 +48,8 @@ struct TriangleScene::Impl {
     m = MeshGeometry{};
   }
   ~Impl() {
+    for (MeshGeometry& m : meshes) release(m);
     if (scene) rtcReleaseScene(scene);
-    for (MeshGeometry& m : meshes) {
-      if (m.geometry) rtcReleaseGeometry(m.geometry);
-      if (m.vertices) rtcReleaseBuffer(m.vertices);
-      if (m.indices) rtcReleaseBuffer(m.indices);
-    }
     if (device) rtcReleaseDevice(device);
   }
 };
@@ -147,12 +143,6 @@ void record_lowest(std::atomic<std::size_t>& lowest, std::size_t i) {
   }
 }
 
-// The process's one Embree device, retained for the caller. Scenes share it
-// because the topological map builds a wall scene at every update, and a
-// device of its own cost each of them more than the scene's build (PERF.md).
-// Embree allows scenes of one device to be built and traced from any number
-// of threads. Created on first use; a failed creation is tried again next
-// time.
 // Embree's live bytes on the shared device: every allocation and release
 // it reports, from any thread.
 std::atomic<std::int64_t> device_bytes{0};
@@ -162,6 +152,12 @@ bool count_device_bytes(void* /*user*/, ssize_t bytes, bool /*post*/) {
   return true;  // never refuse an allocation
 }
 
+// The process's one Embree device, retained for the caller. Scenes share it
+// because the topological map builds a wall scene at every update, and a
+// device of its own cost each of them more than the scene's build (PERF.md).
+// Embree allows scenes of one device to be built and traced from any number
+// of threads. Created on first use; a failed creation is tried again next
+// time.
 RTCDevice shared_device() {
   static std::mutex creating;
   static RTCDevice device = nullptr;
