@@ -41,7 +41,6 @@ class ColorTreeWriter {
   ColorTreeWriter(const std::vector<Leaf>& leaves, std::string& data) : data(data), leaves_(leaves) {}
 
   std::string& data;
-  std::size_t nodes = 0;
 
   // The nodes write_node(begin, end, bit) writes, written nowhere: so that
   // the file's bytes can be reserved whole (a string grown by doubling held
@@ -49,13 +48,9 @@ class ColorTreeWriter {
   std::size_t count_nodes(std::size_t begin, std::size_t end, int bit) const {
     if (bit < 0 || uniform_and_full(begin, end, bit)) return 1;
     std::size_t count = 1;
-    for (std::size_t child_begin = begin; child_begin < end;) {
-      const std::uint64_t c = (leaves_[child_begin].code >> (3 * bit)) & 7u;
-      std::size_t child_end = child_begin;
-      while (child_end < end && ((leaves_[child_end].code >> (3 * bit)) & 7u) == c) ++child_end;
+    for_each_child(begin, end, bit, [&](std::uint32_t, std::size_t child_begin, std::size_t child_end) {
       count += count_nodes(child_begin, child_end, bit - 1);
-      child_begin = child_end;
-    }
+    });
     return count;
   }
 
@@ -64,7 +59,6 @@ class ColorTreeWriter {
   NodeValue write_node(std::size_t begin, std::size_t end, int bit) {
     const std::size_t at = data.size();
     data.resize(at + 8);
-    ++nodes;
     if (bit < 0 || uniform_and_full(begin, end, bit)) {
       // A pruned leaf stands for every voxel under it, all with one value.
       const NodeValue value{to_float(leaves_[begin].log_odds), leaves_[begin].color};
@@ -74,11 +68,7 @@ class ColorTreeWriter {
     float max_log_odds = -std::numeric_limits<float>::infinity();
     int sum[3] = {0, 0, 0}, colored = 0;
     std::uint8_t children = 0;
-    std::size_t child_begin = begin;
-    for (std::uint32_t c = 0; c < 8; ++c) {
-      std::size_t child_end = child_begin;
-      while (child_end < end && ((leaves_[child_end].code >> (3 * bit)) & 7u) == c) ++child_end;
-      if (child_end == child_begin) continue;
+    for_each_child(begin, end, bit, [&](std::uint32_t c, std::size_t child_begin, std::size_t child_end) {
       children |= static_cast<std::uint8_t>(1u << c);
       const NodeValue child = write_node(child_begin, child_end, bit - 1);
       max_log_odds = std::max(max_log_odds, child.log_odds);
@@ -88,8 +78,7 @@ class ColorTreeWriter {
         sum[2] += child.color.b;
         ++colored;
       }
-      child_begin = child_end;
-    }
+    });
     NodeValue value{max_log_odds, kNoColor};
     if (colored > 0) {
       value.color = {static_cast<std::uint8_t>(sum[0] / colored), static_cast<std::uint8_t>(sum[1] / colored),
@@ -100,6 +89,20 @@ class ColorTreeWriter {
   }
 
  private:
+  // Calls visit(c, child_begin, child_end) for each child c of the node
+  // covering leaves_[begin, end) that splits on key bit `bit` and holds
+  // leaves, in child order (the leaves are sorted by their codes).
+  template <class Visit>
+  void for_each_child(std::size_t begin, std::size_t end, int bit, Visit&& visit) const {
+    for (std::size_t child_begin = begin; child_begin < end;) {
+      const auto c = static_cast<std::uint32_t>((leaves_[child_begin].code >> (3 * bit)) & 7u);
+      std::size_t child_end = child_begin + 1;
+      while (child_end < end && ((leaves_[child_end].code >> (3 * bit)) & 7u) == c) ++child_end;
+      visit(c, child_begin, child_end);
+      child_begin = child_end;
+    }
+  }
+
   static float to_float(std::int16_t log_odds) { return static_cast<float>(log_odds / kLogOddsScale); }
 
   // True when the node splitting on `bit` has all 8^(bit + 1) voxels under it,
@@ -163,7 +166,7 @@ std::string octomap_color_tree(const MetricMap& map, std::size_t* node_count) {
   bytes.reserve(head.size() + 8 * nodes);
   bytes.append(head);
   if (!leaves.empty()) tree.write_node(0, leaves.size(), top_bit);
-  if (node_count) *node_count = tree.nodes;
+  if (node_count) *node_count = nodes;
   return bytes;
 }
 
