@@ -53,13 +53,9 @@ void StageProfile::append(const StageProfile& scans) {
   for (std::size_t r = 0; r < scans.scan_count(); ++r) {
     begin_scan();
     const std::size_t row = scan_count() - 1;
-    for (std::size_t i = 0; i < scans.order_.size(); ++i) {
-      times_[row * order_.size() + index[i]] += scans.time_at(r, i);
-    }
+    for (std::size_t i = 0; i < scans.order_.size(); ++i) time_at(row, index[i]) += scans.time_at(r, i);
     latency_.back() = scans.latency_[r];
-    for (std::size_t l = 0; l < scans.levels_.size(); ++l) {
-      level_values_[row * levels_.size() + level_index[l]] = scans.level_at(r, l);
-    }
+    for (std::size_t l = 0; l < scans.levels_.size(); ++l) level_at(row, level_index[l]) = scans.level_at(r, l);
   }
   for (std::size_t i = 0; i < scans.order_.size(); ++i) {
     for (const auto& [name, value] : scans.counters_[i]) counters_[index[i]][name] += value;
@@ -86,7 +82,7 @@ std::size_t StageProfile::stage_index(std::string_view stage) {
 void StageProfile::add_time(std::string_view stage, double seconds) {
   const std::size_t i = stage_index(stage);
   if (latency_.empty()) begin_scan();
-  times_[(scan_count() - 1) * order_.size() + i] += seconds;
+  time_at(scan_count() - 1, i) += seconds;
 }
 
 std::size_t StageProfile::level_index(std::size_t stage, std::string_view level) {
@@ -102,7 +98,7 @@ std::size_t StageProfile::level_index(std::size_t stage, std::string_view level)
 void StageProfile::set_level(std::string_view stage, std::string_view level, double value) {
   const std::size_t l = level_index(stage_index(stage), level);
   if (latency_.empty()) begin_scan();
-  level_values_[(scan_count() - 1) * levels_.size() + l] = value;
+  level_at(scan_count() - 1, l) = value;
 }
 
 void StageProfile::skip_scan(std::size_t index, std::string_view source, std::string_view error, bool row_open) {

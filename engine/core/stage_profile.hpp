@@ -99,9 +99,11 @@ class StageProfile {
   std::size_t level_index(std::size_t stage, std::string_view level);
   double row_latency(std::size_t scan) const;
   double time_at(std::size_t scan, std::size_t stage) const { return times_[scan * order_.size() + stage]; }
+  double& time_at(std::size_t scan, std::size_t stage) { return times_[scan * order_.size() + stage]; }
   double level_at(std::size_t scan, std::size_t level) const {
     return level_values_[scan * levels_.size() + level];
   }
+  double& level_at(std::size_t scan, std::size_t level) { return level_values_[scan * levels_.size() + level]; }
 
   // The per-scan rows are kept in one array each, row after row, not an
   // array per scan: small arrays made at every scan and kept for the whole
