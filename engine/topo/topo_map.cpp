@@ -31,14 +31,14 @@ std::uint64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 TopoMap::TopoMap(const TopoSettings& settings) : settings_(settings) { validate(settings_); }
 TopoMap::~TopoMap() = default;
+TopoMap::TopoMap(TopoMap&&) noexcept = default;
+TopoMap& TopoMap::operator=(TopoMap&&) noexcept = default;
 
 std::size_t TopoMap::memory_bytes() const {
   return capacity_bytes(nodes_) + capacity_bytes(edges_) + grid_.memory_bytes() + voxels_.memory_bytes() +
          columns_.memory_bytes() + grid_scratch_.memory_bytes() +
          (walls_ ? sizeof(WallScene) + walls_->memory_bytes() : 0);
 }
-TopoMap::TopoMap(TopoMap&&) noexcept = default;
-TopoMap& TopoMap::operator=(TopoMap&&) noexcept = default;
 
 TopoUpdate TopoMap::update(const segments::SegmentMap& segment_map, const metric::MetricMap& map,
                            const Bounds* changed) {

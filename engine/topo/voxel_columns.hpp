@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/bounds.hpp"
+#include "engine/core/capacity_bytes.hpp"
 #include "engine/core/classes.hpp"
 #include "engine/metric/metric_map.hpp"
 
