@@ -170,8 +170,12 @@ TEST(StageProfile, StagesAndLevelsFirstSeenLateLeaveEarlierRowsAsTheyWere) {
     EXPECT_DOUBLE_EQ(row["topo_s"].get<double>(), 0.1 * (scan + 1)) << scan;
     EXPECT_EQ(row.contains("metric_map_bytes"), scan >= 1) << scan;
     EXPECT_EQ(row.contains("segment_bytes"), scan >= 3) << scan;
-    if (scan >= 1) EXPECT_DOUBLE_EQ(row["metric_map_bytes"].get<double>(), 10.0 * scan) << scan;
-    if (scan >= 3) EXPECT_DOUBLE_EQ(row["segment_bytes"].get<double>(), 1000.0 * scan) << scan;
+    if (scan >= 1) {
+      EXPECT_DOUBLE_EQ(row["metric_map_bytes"].get<double>(), 10.0 * scan) << scan;
+    }
+    if (scan >= 3) {
+      EXPECT_DOUBLE_EQ(row["segment_bytes"].get<double>(), 1000.0 * scan) << scan;
+    }
   }
   EXPECT_DOUBLE_EQ(profile.stats("topo").total_s, 1.5);
   EXPECT_NEAR(profile.latency().max_s, 0.005 + 0.05 + 0.5, 1e-12);

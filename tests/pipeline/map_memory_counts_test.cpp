@@ -32,6 +32,15 @@ std::vector<Scan> default_arena_scans() {
   return scans;
 }
 
+// The scans into a metric map and a segment map, as a run's stages take them.
+void map_scans(const std::vector<Scan>& scans, metric::RayIntegrator& integrator, metric::MetricMap& metric_map,
+               segments::SegmentMap& segment_map) {
+  for (const Scan& scan : scans) {
+    integrator.integrate(metric_map, scan.points, scan.origin);
+    segment_map.integrate(scan.points, scan.origin);
+  }
+}
+
 // The heap's figure may differ from the count by the allocator's overhead
 // and its caches of freed chunks: a few per cent and a few hundred KiB, far
 // less than any of the maps' large arrays.
@@ -64,10 +73,7 @@ TEST(MapMemoryCounts, TopoMapCountsWhatTheHeapHoldsForItBesideEmbree) {
   metric::MetricMap metric_map;
   metric::RayIntegrator integrator;
   segments::SegmentMap segment_map;
-  for (const Scan& scan : scans) {
-    integrator.integrate(metric_map, scan.points, scan.origin);
-    segment_map.integrate(scan.points, scan.origin);
-  }
+  map_scans(scans, integrator, metric_map, segment_map);
   const std::size_t before = test::live_heap_bytes();
   const std::size_t embree_before = geometry::embree_bytes();
   auto topo = std::make_unique<topo::TopoMap>();
@@ -102,10 +108,7 @@ TEST(MapMemoryCounts, TopoMapLetsGoOfWhatTheMapForgot) {
   std::size_t forgotten_bytes[2] = {0, 0}, forgotten_embree[2] = {0, 0}, mapped_bytes = 0;
   for (int place = 0; place < 2; ++place) {
     segments::SegmentMap segment_map;
-    for (const Scan& scan : scans) {
-      integrator.integrate(metric_map, scan.points, scan.origin);
-      segment_map.integrate(scan.points, scan.origin);
-    }
+    map_scans(scans, integrator, metric_map, segment_map);
     topo.update(segment_map, metric_map, &everywhere);
     ASSERT_GT(topo.walls()->boxes().size(), topo.walls()->segment_boxes());  // voxel boxes in tiles
     mapped_bytes = topo.memory_bytes();
