@@ -2,7 +2,8 @@
 // the same simulated sequence: OctoMap's insertPointCloud(..., discretize=true)
 // versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, fed
 // one frame at a time (also with the caches evicted between frames, as
-// between a pipeline's metric stages) and as a sequence (integrate_sequence),
+// between a pipeline's metric stages, or with a pause alone between them)
+// and as a sequence (integrate_sequence),
 // and both at 320 x 240 and 640 x 480; the building arena (52 x 15 m) at
 // 640 x 480 for a larger map. Each iteration maps all frames into a fresh
 // map; each case runs three times (the building arena's OctoMap once) and
@@ -17,7 +18,9 @@
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -95,8 +98,12 @@ void BM_OctoMap(benchmark::State& state) {
 // call per frame with the caches evicted between frames, untimed: inside
 // `sarmap run` and the Mapper the other stages run between two scans'
 // metric stages and leave their own data in the caches (and the workers
-// asleep, which the Mapper wakes ahead of the stage, as this does).
-enum class Feed { PerScan, Sequence, PerScanCachesEvicted };
+// asleep, which the Mapper wakes ahead of the stage, as this does), or one
+// call per frame with the calling thread busy between frames, untimed, on
+// work that touches no memory: the other stages' time without their data,
+// to tell apart what a pause alone costs the next scan (its workers asleep,
+// its predictors and caches left to whatever else the cores ran).
+enum class Feed { PerScan, Sequence, PerScanCachesEvicted, PerScanPaused };
 
 // Writes one word in every cache line of words: what a stage that touches
 // that much memory leaves of the caches' earlier contents.
@@ -105,8 +112,20 @@ void evict_caches(std::vector<std::uint64_t>& words) {
   benchmark::DoNotOptimize(words.data());
 }
 
+// Spins for `pause` on arithmetic alone, touching no memory (a sleep would
+// let the core idle, which a busy pipeline does not).
+void busy_pause(std::chrono::microseconds pause) {
+  const auto until = std::chrono::steady_clock::now() + pause;
+  std::uint64_t x = 1;
+  while (std::chrono::steady_clock::now() < until) {
+    for (int i = 0; i < 64; ++i) x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+  }
+  benchmark::DoNotOptimize(x);
+}
+
 // Args: resolution in mm, image width, threads (and for
-// PerScanCachesEvicted the MiB written between frames).
+// PerScanCachesEvicted the MiB written between frames, for PerScanPaused the
+// microseconds of the pause).
 template <Feed feed, Sequence sequence = sarmap::bench::default_arena_sequence>
 void BM_Sarmap(benchmark::State& state) {
   const double res = state.range(0) / 1000.0;
@@ -127,11 +146,15 @@ void BM_Sarmap(benchmark::State& state) {
     stats = {};
     if constexpr (feed == Feed::PerScan) {
       for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
-    } else if constexpr (feed == Feed::PerScanCachesEvicted) {
+    } else if constexpr (feed == Feed::PerScanCachesEvicted || feed == Feed::PerScanPaused) {
       for (const Scan& s : scans) {
         stats += integrator.integrate(map, s.points, s.origin);
         state.PauseTiming();
-        evict_caches(evicting);
+        if constexpr (feed == Feed::PerScanCachesEvicted) {
+          evict_caches(evicting);
+        } else {
+          busy_pause(std::chrono::microseconds(state.range(3)));
+        }
         sarmap::wake_workers();  // as the Mapper does before its metric stage
         state.ResumeTiming();
       }
@@ -180,6 +203,14 @@ BENCHMARK(BM_Sarmap<Feed::Sequence>)->Name("BM_SarmapSequence")->ArgNames({"res_
 // the run's segment and topo stages touch per scan of the default arena.
 BENCHMARK(BM_Sarmap<Feed::PerScanCachesEvicted>)->Name("BM_SarmapCachesEvicted")
     ->ArgNames({"res_mm", "width", "threads", "evict_MiB"})->Args({50, 320, 2, 16})->Args({50, 320, 2, 64})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
+// The same scan by scan with only time between scans: 5 ms is about what
+// the run's other stages take per scan of the default arena, 0 the control
+// (the same calls around each scan, no pause).
+BENCHMARK(BM_Sarmap<Feed::PerScanPaused>)->Name("BM_SarmapPaused")
+    ->ArgNames({"res_mm", "width", "threads", "pause_us"})
+    ->Args({50, 320, 1, 0})->Args({50, 320, 1, 5000})->Args({50, 320, 2, 0})->Args({50, 320, 2, 5000})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
 // Scaling with image size; OctoMap at 640 x 480 only at 0.05 m (0.025 m takes minutes).
