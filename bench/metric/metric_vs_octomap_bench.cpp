@@ -2,7 +2,8 @@
 // the same simulated sequence: OctoMap's insertPointCloud(..., discretize=true)
 // versus RayIntegrator at 0.05 m and 0.025 m, sarmap at 1 and 2 threads, fed
 // one frame at a time (also with the caches evicted between frames, as
-// between a pipeline's metric stages, or with a pause alone between them)
+// between a pipeline's metric stages, or with a pause alone between them,
+// busy or asleep)
 // and as a sequence (integrate_sequence),
 // and both at 320 x 240 and 640 x 480; the building arena (52 x 15 m) at
 // 640 x 480 for a larger map. Each iteration maps all frames into a fresh
@@ -23,6 +24,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -102,8 +104,11 @@ void BM_OctoMap(benchmark::State& state) {
 // call per frame with the calling thread busy between frames, untimed, on
 // work that touches no memory: the other stages' time without their data,
 // to tell apart what a pause alone costs the next scan (its workers asleep,
-// its predictors and caches left to whatever else the cores ran).
-enum class Feed { PerScan, Sequence, PerScanCachesEvicted, PerScanPaused };
+// its predictors and caches left to whatever else the cores ran), or one
+// call per frame with the calling thread asleep between frames: a front end
+// that maps each scan as its sensor delivers it and waits idle for the next,
+// its cores free to idle too.
+enum class Feed { PerScan, Sequence, PerScanCachesEvicted, PerScanPaused, PerScanIdle };
 
 // Writes one word in every cache line of words: what a stage that touches
 // that much memory leaves of the caches' earlier contents.
@@ -127,8 +132,8 @@ void busy_pause(std::chrono::microseconds pause) {
 }
 
 // Args: resolution in mm, image width, threads (and for
-// PerScanCachesEvicted the MiB written between frames, for PerScanPaused the
-// microseconds of the pause).
+// PerScanCachesEvicted the MiB written between frames, for PerScanPaused and
+// PerScanIdle the microseconds of the pause).
 template <Feed feed, Sequence sequence = sarmap::bench::default_arena_sequence>
 void BM_Sarmap(benchmark::State& state) {
   const double res = state.range(0) / 1000.0;
@@ -149,14 +154,16 @@ void BM_Sarmap(benchmark::State& state) {
     stats = {};
     if constexpr (feed == Feed::PerScan) {
       for (const Scan& s : scans) stats += integrator.integrate(map, s.points, s.origin);
-    } else if constexpr (feed == Feed::PerScanCachesEvicted || feed == Feed::PerScanPaused) {
+    } else if constexpr (feed != Feed::Sequence) {
       for (const Scan& s : scans) {
         stats += integrator.integrate(map, s.points, s.origin);
         state.PauseTiming();
         if constexpr (feed == Feed::PerScanCachesEvicted) {
           evict_caches(evicting);
-        } else {
+        } else if constexpr (feed == Feed::PerScanPaused) {
           busy_pause(std::chrono::microseconds(state.range(3)));
+        } else {
+          std::this_thread::sleep_for(std::chrono::microseconds(state.range(3)));
         }
         sarmap::wake_workers();  // as the Mapper does before its metric stage
         state.ResumeTiming();
@@ -214,6 +221,12 @@ BENCHMARK(BM_Sarmap<Feed::PerScanCachesEvicted>)->Name("BM_SarmapCachesEvicted")
 BENCHMARK(BM_Sarmap<Feed::PerScanPaused>)->Name("BM_SarmapPaused")
     ->ArgNames({"res_mm", "width", "threads", "pause_us"})
     ->Args({50, 320, 1, 0})->Args({50, 320, 1, 5000})->Args({50, 320, 2, 0})->Args({50, 320, 2, 5000})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
+    ->Repetitions(3)->ComputeStatistics("min", fastest);
+// The same pause asleep: a front end fed by its sensor. Its control is
+// BM_SarmapPaused's pause_us:0 row.
+BENCHMARK(BM_Sarmap<Feed::PerScanIdle>)->Name("BM_SarmapIdle")
+    ->ArgNames({"res_mm", "width", "threads", "idle_us"})->Args({50, 320, 1, 5000})->Args({50, 320, 2, 5000})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0)
     ->Repetitions(3)->ComputeStatistics("min", fastest);
 // Scaling with image size; OctoMap at 640 x 480 only at 0.05 m (0.025 m takes minutes).
