@@ -120,8 +120,9 @@ void evict_caches(std::vector<std::uint64_t>& words) {
 // Spins for `pause` on arithmetic alone, touching no memory (a sleep would
 // let the core idle, which a busy pipeline does not). Not the clock-only
 // spin of parallel_region_bench.cpp's busy_for: between scans that one cost
-// the next scan far more than the arithmetic does at one thread, and more
-// than the run's real stages (docs/perf-history.md): it would overstate a pause.
+// the next scan far more than the arithmetic does at one thread on one kind
+// of machine, and more than the run's real stages (docs/perf-history.md): it
+// could overstate a pause.
 void busy_pause(std::chrono::microseconds pause) {
   const auto until = std::chrono::steady_clock::now() + pause;
   std::uint64_t x = 1;
